@@ -1,0 +1,20 @@
+// mgelastic command-line tool: a thin layer over the public library.
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "mgelastic/core/error.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"mgelastic: multigrid simulation of elastic solids"};
+  app.require_subcommand(1);
+  app.add_subcommand("version", "Print the version")->callback([] { std::cout << "mgelastic 0.1.0\n"; });
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const mgelastic::Error& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  }
+  return 0;
+}

@@ -1,0 +1,36 @@
+# Every third-party dependency is found here, once, from the system (Debian packages).
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+find_package(OpenMP REQUIRED COMPONENTS CXX)
+find_package(nlohmann_json 3.10 REQUIRED)
+
+# SuiteSparse CHOLMOD: sparse Cholesky for the coarsest multigrid level and tet hierarchies.
+find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)
+find_library(CHOLMOD_LIBRARY cholmod REQUIRED)
+add_library(mgelastic_cholmod INTERFACE)
+target_include_directories(mgelastic_cholmod SYSTEM INTERFACE ${CHOLMOD_INCLUDE_DIR})
+target_link_libraries(mgelastic_cholmod INTERFACE ${CHOLMOD_LIBRARY})
+
+if(MGELASTIC_BUILD_APP)
+  find_package(CLI11 REQUIRED)
+endif()
+if(MGELASTIC_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+endif()
+if(MGELASTIC_BUILD_BENCH)
+  find_package(benchmark REQUIRED)
+endif()
+
+# hypre (BoomerAMG) is the optional baseline solver for benchmarks.
+set(MGELASTIC_HAVE_HYPRE OFF)
+if(MGELASTIC_WITH_HYPRE)
+  find_path(HYPRE_INCLUDE_DIR HYPRE.h PATH_SUFFIXES hypre)
+  find_library(HYPRE_LIBRARY HYPRE)
+  if(HYPRE_INCLUDE_DIR AND HYPRE_LIBRARY)
+    set(MGELASTIC_HAVE_HYPRE ON)
+    add_library(mgelastic_hypre INTERFACE)
+    target_include_directories(mgelastic_hypre SYSTEM INTERFACE ${HYPRE_INCLUDE_DIR})
+    target_link_libraries(mgelastic_hypre INTERFACE ${HYPRE_LIBRARY})
+  else()
+    message(STATUS "hypre not found: BoomerAMG baselines disabled")
+  endif()
+endif()

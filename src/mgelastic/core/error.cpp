@@ -1,0 +1,25 @@
+#include "mgelastic/core/error.hpp"
+
+namespace mgelastic {
+
+std::string format_error(const std::string& reason, const ErrorContext& context) {
+  std::string message;
+  if (!context.file.empty()) {
+    message += context.file;
+    if (context.line >= 0) message += ":" + std::to_string(context.line);
+    message += ": ";
+  }
+  if (!context.pointer.empty()) message += context.pointer + ": ";
+  return message + reason;
+}
+
+Error::Error(const std::string& reason, ErrorContext context)
+    : std::runtime_error(format_error(reason, context)),
+      m_context(std::move(context)),
+      m_reason(reason) {}
+
+void require(bool condition, const std::string& parameter, const std::string& reason) {
+  if (!condition) throw Error(reason, ErrorContext{.pointer = parameter});
+}
+
+}  // namespace mgelastic
