@@ -1,0 +1,1 @@
+// Placeholder until the geometry module's first files land.

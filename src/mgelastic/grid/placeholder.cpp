@@ -1,0 +1,1 @@
+// Placeholder until the grid engine's first files land.

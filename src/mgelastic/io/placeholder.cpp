@@ -1,0 +1,1 @@
+// Placeholder until the io module's first files land.

@@ -1,0 +1,1 @@
+// Placeholder until the scene module's first files land.

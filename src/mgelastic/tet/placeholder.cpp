@@ -1,0 +1,1 @@
+// Placeholder until the tet engine's first files land.
