@@ -2,12 +2,16 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "bench_command.hpp"
 #include "mgelastic/core/error.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"mgelastic: multigrid simulation of elastic solids"};
   app.require_subcommand(1);
-  app.add_subcommand("version", "Print the version")->callback([] { std::cout << "mgelastic 0.1.0\n"; });
+  app.add_subcommand("version", "Print the version")->callback([] {
+    std::cout << "mgelastic 0.1.0\n";
+  });
+  mgelastic::app::register_bench_commands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,16 +1,19 @@
 #include "mgelastic/core/error.hpp"
 
+#include <sstream>
+
 namespace mgelastic {
 
 std::string format_error(const std::string& reason, const ErrorContext& context) {
-  std::string message;
+  std::ostringstream message;
   if (!context.file.empty()) {
-    message += context.file;
-    if (context.line >= 0) message += ":" + std::to_string(context.line);
-    message += ": ";
+    message << context.file;
+    if (context.line >= 0) message << ":" << context.line;
+    message << ": ";
   }
-  if (!context.pointer.empty()) message += context.pointer + ": ";
-  return message + reason;
+  if (!context.pointer.empty()) message << context.pointer << ": ";
+  message << reason;
+  return message.str();
 }
 
 Error::Error(const std::string& reason, ErrorContext context)

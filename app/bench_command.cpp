@@ -1,0 +1,177 @@
+#include "bench_command.hpp"
+
+#include <cstdio>
+#include <iostream>
+#include <limits>
+
+#include "mgelastic/core/error.hpp"
+#include "mgelastic/core/threads.hpp"
+#include "mgelastic/grid/box_problem.hpp"
+#include "mgelastic/grid/cg_baseline.hpp"
+#include "mgelastic/grid/convergence_rate.hpp"
+#include "mgelastic/grid/multigrid.hpp"
+#include "mgelastic/grid/nonaugmented_system.hpp"
+
+namespace mgelastic::app {
+namespace {
+
+grid::BoxSpec box_spec(const BoxBenchOptions& o) {
+  grid::BoxSpec spec;
+  spec.cells = o.n;
+  spec.poisson_ratio = o.poisson;
+  spec.youngs_modulus = o.youngs;
+  if (o.bc == "mixed") {
+    spec.boundary = grid::BoxBoundary::MIXED;
+  } else if (o.bc == "dirichlet") {
+    spec.boundary = grid::BoxBoundary::DIRICHLET;
+  } else {
+    throw Error("must be 'mixed' or 'dirichlet' (got '" + o.bc + "')", {.pointer = "--bc"});
+  }
+  return spec;
+}
+
+template <int Dim, typename Scalar>
+nlohmann::json convergence(const BoxBenchOptions& o) {
+  grid::MultigridOptions options;
+  options.boundary_sweeps = o.boundary_sweeps;
+  grid::Multigrid<Dim, Scalar> mg(grid::make_box_problem<Dim>(box_spec(o)), options);
+  const grid::SolveReport report = mg.run_cycles(o.cycles);
+  // Below ~100 ulps of the initial residual the ratios measure round-off, not the solver.
+  const double floor = std::max(1e-11, 100.0 * std::numeric_limits<Scalar>::epsilon());
+  const auto& phases = mg.phase_seconds();
+  return {{"benchmark", "convergence"},
+          {"dim", Dim},
+          {"n", o.n},
+          {"poisson", o.poisson},
+          {"bc", o.bc},
+          {"precision", o.precision},
+          {"boundary_sweeps", mg.boundary_sweeps()},
+          {"levels", mg.levels()},
+          {"unknowns", mg.unknowns()},
+          {"residuals", report.residuals},
+          {"relative_residual", report.residuals.back() / report.residuals.front()},
+          {"rate", grid::convergence_rate(report.residuals, floor)},
+          {"vcycle_seconds", report.seconds / std::max(1, report.cycles())},
+          {"phase_seconds",
+           {{"boundary_smoothing", phases.boundary_smoothing},
+            {"interior_smoothing", phases.interior_smoothing},
+            {"residual", phases.residual},
+            {"restriction", phases.restriction},
+            {"prolongation", phases.prolongation},
+            {"coarse_solve", phases.coarse_solve},
+            {"other", phases.other}}}};
+}
+
+template <int Dim>
+nlohmann::json cg(const BoxBenchOptions& o) {
+  // The level's classification and Dirichlet values give the same discrete problem as the
+  // multigrid solver sees; only the finest level is needed.
+  grid::MultigridOptions options;
+  options.max_levels = 2;
+  const auto problem = grid::make_box_problem<Dim>(box_spec(o));
+  grid::Multigrid<Dim, double> mg(problem, options);
+  const auto system = grid::assemble_nonaugmented(mg.finest(), problem.boundary_stress);
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> a = system.matrix;
+  const Eigen::VectorXd rhs = system.right_hand_side(mg.finest());
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(rhs.size());
+  const auto report = grid::conjugate_gradient(a, rhs, u, o.tolerance, 100000);
+  return {{"benchmark", "cg"},       {"dim", Dim},
+          {"n", o.n},                {"poisson", o.poisson},
+          {"bc", o.bc},              {"unknowns", rhs.size()},
+          {"tolerance", o.tolerance}, {"iterations", report.iterations},
+          {"converged", report.converged}, {"seconds", report.seconds},
+          {"residuals", report.residuals}};
+}
+
+void print_convergence(const nlohmann::json& r) {
+  std::printf("mixed-formulation multigrid, %dD box N=%d, nu=%.4g, bc=%s, %s\n",
+              r["dim"].get<int>(), r["n"].get<int>(), r["poisson"].get<double>(),
+              r["bc"].get<std::string>().c_str(), r["precision"].get<std::string>().c_str());
+  std::printf("levels %d, interior unknowns %zu, boundary sweeps %d\n", r["levels"].get<int>(),
+              r["unknowns"].get<std::size_t>(), r["boundary_sweeps"].get<int>());
+  std::printf("%6s %14s %8s\n", "cycle", "residual", "ratio");
+  const auto res = r["residuals"].get<std::vector<double>>();
+  for (std::size_t k = 0; k < res.size(); ++k) {
+    if (k == 0) {
+      std::printf("%6zu %14.6e %8s\n", k, res[k], "");
+    } else {
+      std::printf("%6zu %14.6e %8.4f\n", k, res[k], res[k] / res[k - 1]);
+    }
+  }
+  std::printf("rate %.4f, relative residual %.3e, %.4f s per V-cycle\n", r["rate"].get<double>(),
+              r["relative_residual"].get<double>(), r["vcycle_seconds"].get<double>());
+}
+
+void print_cg(const nlohmann::json& r) {
+  std::printf("CG on the non-augmented system, %dD box N=%d, nu=%.4g, bc=%s, %zu unknowns\n",
+              r["dim"].get<int>(), r["n"].get<int>(), r["poisson"].get<double>(),
+              r["bc"].get<std::string>().c_str(), r["unknowns"].get<std::size_t>());
+  std::printf("%d iterations to relative residual %.1e (%s), %.3f s\n",
+              r["iterations"].get<int>(), r["tolerance"].get<double>(),
+              r["converged"].get<bool>() ? "converged" : "NOT converged",
+              r["seconds"].get<double>());
+}
+
+void add_box_options(CLI::App* cmd, BoxBenchOptions& o) {
+  cmd->add_option("--dim", o.dim, "Dimension (2 or 3)")->check(CLI::IsMember({2, 3}));
+  cmd->add_option("--n", o.n, "Cells per axis of the box");
+  cmd->add_option("--poisson", o.poisson, "Poisson ratio in [0, 0.5)");
+  cmd->add_option("--youngs", o.youngs, "Young's modulus (Pa)");
+  cmd->add_option("--bc", o.bc, "Boundary conditions: mixed or dirichlet");
+  cmd->add_flag("--json", o.json, "Print JSON instead of a table");
+  cmd->add_option("--threads", o.threads, "Worker threads (default: all cores)");
+}
+
+}  // namespace
+
+nlohmann::json run_convergence(const BoxBenchOptions& o) {
+  if (o.precision != "float" && o.precision != "double")
+    throw Error("must be 'float' or 'double' (got '" + o.precision + "')",
+                {.pointer = "--precision"});
+  if (o.cycles < 1)
+    throw Error("must be at least 1 (got " + std::to_string(o.cycles) + ")", {.pointer = "--cycles"});
+  const bool single = o.precision == "float";
+  if (o.dim == 2) return single ? convergence<2, float>(o) : convergence<2, double>(o);
+  return single ? convergence<3, float>(o) : convergence<3, double>(o);
+}
+
+nlohmann::json run_cg(const BoxBenchOptions& o) {
+  return o.dim == 2 ? cg<2>(o) : cg<3>(o);
+}
+
+void register_bench_commands(CLI::App& app) {
+  CLI::App* bench = app.add_subcommand("bench", "Solver benchmarks");
+  bench->require_subcommand(1);
+  static BoxBenchOptions conv_options, cg_options;
+  CLI::App* conv = bench->add_subcommand(
+      "convergence", "Residual reduction per V(1,1) cycle on the paper's elastic box");
+  add_box_options(conv, conv_options);
+  conv->add_option("--cycles", conv_options.cycles, "Number of V-cycles");
+  conv->add_option("--precision", conv_options.precision, "float or double");
+  conv->add_option("--boundary-sweeps", conv_options.boundary_sweeps,
+                   "Band Gauss-Seidel sweeps (0 = paper default for nu)");
+  conv->callback([] {
+    set_thread_count(conv_options.threads);
+    const auto result = run_convergence(conv_options);
+    if (conv_options.json) {
+      std::cout << result.dump(2) << "\n";
+    } else {
+      print_convergence(result);
+    }
+  });
+  CLI::App* cgc = bench->add_subcommand(
+      "cg", "Conjugate gradients on the non-augmented staggered system (Fig. 11 baseline)");
+  add_box_options(cgc, cg_options);
+  cgc->add_option("--tolerance", cg_options.tolerance, "Relative residual to reach");
+  cgc->callback([] {
+    set_thread_count(cg_options.threads);
+    const auto result = run_cg(cg_options);
+    if (cg_options.json) {
+      std::cout << result.dump(2) << "\n";
+    } else {
+      print_cg(result);
+    }
+  });
+}
+
+}  // namespace mgelastic::app

@@ -1,0 +1,29 @@
+#pragma once
+// `mgelastic bench ...`: solver benchmarks printed as tables or JSON.
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+namespace mgelastic::app {
+
+struct BoxBenchOptions {
+  int dim = 3;
+  int n = 32;
+  double poisson = 0.3;
+  double youngs = 1e5;
+  std::string bc = "mixed";
+  int cycles = 12;
+  std::string precision = "double";
+  double tolerance = 1e-6;
+  int boundary_sweeps = 0;
+  bool json = false;
+  int threads = 0;
+};
+
+void register_bench_commands(CLI::App& app);
+
+// Runs the V-cycle convergence study on the box; returns the JSON record.
+nlohmann::json run_convergence(const BoxBenchOptions& options);
+// Runs the CG baseline on the non-augmented system of the same box.
+nlohmann::json run_cg(const BoxBenchOptions& options);
+
+}  // namespace mgelastic::app

@@ -1,0 +1,51 @@
+#include "mgelastic/grid/coarse_solver.hpp"
+
+#include <Eigen/CholmodSupport>
+
+#include "mgelastic/core/error.hpp"
+#include "mgelastic/grid/boundary_smoother.hpp"
+#include "mgelastic/grid/nonaugmented_system.hpp"
+
+namespace mgelastic::grid {
+
+template <int Dim, typename Scalar>
+struct CoarseSolver<Dim, Scalar>::Impl {
+  NonAugmentedSystem<Dim> system;
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> cholesky;
+};
+
+template <int Dim, typename Scalar>
+CoarseSolver<Dim, Scalar>::CoarseSolver(const Level<Dim, Scalar>& level)
+    : m_impl(std::make_unique<Impl>()) {
+  // Coarse boundary conditions are homogeneous: no traction values, zero Dirichlet values.
+  m_impl->system = assemble_nonaugmented(level, BoundaryStress<Dim>{});
+  if (m_impl->system.u_variables.empty())
+    throw Error("the coarsest grid level has no interior variable", {.pointer = "grid"});
+  m_impl->cholesky.compute(m_impl->system.matrix);
+  if (m_impl->cholesky.info() != Eigen::Success)
+    throw Error("the coarsest-level system is singular (is every part of the body held by a "
+                "Dirichlet region?)",
+                {.pointer = "grid"});
+}
+
+template <int Dim, typename Scalar>
+CoarseSolver<Dim, Scalar>::~CoarseSolver() = default;
+template <int Dim, typename Scalar>
+CoarseSolver<Dim, Scalar>::CoarseSolver(CoarseSolver&&) noexcept = default;
+template <int Dim, typename Scalar>
+CoarseSolver<Dim, Scalar>& CoarseSolver<Dim, Scalar>::operator=(CoarseSolver&&) noexcept = default;
+
+template <int Dim, typename Scalar>
+void CoarseSolver<Dim, Scalar>::solve(Level<Dim, Scalar>& level) const {
+  const Eigen::VectorXd rhs = m_impl->system.right_hand_side(level);
+  const Eigen::VectorXd u = m_impl->cholesky.solve(rhs);
+  m_impl->system.scatter(u, level);
+  back_substitute_traction(level);
+}
+
+template class CoarseSolver<2, float>;
+template class CoarseSolver<2, double>;
+template class CoarseSolver<3, float>;
+template class CoarseSolver<3, double>;
+
+}  // namespace mgelastic::grid

@@ -1,0 +1,27 @@
+#pragma once
+// Exact solve on the coarsest level (Algorithm 1, line 8): sparse Cholesky (SuiteSparse
+// CHOLMOD) of the non-augmented system A = -S, factored once; pressures recovered exactly and
+// traction variables back-substituted so the coarse correction is defined at boundary variables.
+#include <memory>
+
+#include "mgelastic/grid/level.hpp"
+
+namespace mgelastic::grid {
+
+template <int Dim, typename Scalar>
+class CoarseSolver {
+ public:
+  explicit CoarseSolver(const Level<Dim, Scalar>& level);
+  ~CoarseSolver();
+  CoarseSolver(CoarseSolver&&) noexcept;
+  CoarseSolver& operator=(CoarseSolver&&) noexcept;
+
+  // Solves with the level's current right-hand side and overwrites level.x.
+  void solve(Level<Dim, Scalar>& level) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> m_impl;
+};
+
+}  // namespace mgelastic::grid

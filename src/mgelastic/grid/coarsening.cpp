@@ -1,0 +1,32 @@
+#include "mgelastic/grid/coarsening.hpp"
+
+namespace mgelastic::grid {
+
+template <int Dim>
+Lattice<Dim> coarsen(const Lattice<Dim>& fine) {
+  IVec<Dim> n;
+  for (int a = 0; a < Dim; ++a) n[a] = (fine.cells[a] + 1) / 2;
+  return Lattice<Dim>(n, 2.0 * fine.h, fine.origin);
+}
+
+template <int Dim>
+std::vector<CellType> coarsen_cells(const Lattice<Dim>& fine, const std::vector<CellType>& cells) {
+  const Lattice<Dim> coarse = coarsen(fine);
+  std::vector<CellType> result(coarse.size(), CellType::EXTERIOR);
+  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(fine.size()); ++k) {
+    const IVec<Dim> s = fine.coords(k);
+    if (!fine.is_real(s) || cells[k] == CellType::EXTERIOR) continue;
+    IVec<Dim> cs;
+    for (int a = 0; a < Dim; ++a) cs[a] = (s[a] - 1) / 2 + 1;
+    CellType& parent = result[coarse.index(cs)];
+    if (cells[k] == CellType::DIRICHLET || parent == CellType::EXTERIOR) parent = cells[k];
+  }
+  return result;
+}
+
+template Lattice<2> coarsen<2>(const Lattice<2>&);
+template Lattice<3> coarsen<3>(const Lattice<3>&);
+template std::vector<CellType> coarsen_cells<2>(const Lattice<2>&, const std::vector<CellType>&);
+template std::vector<CellType> coarsen_cells<3>(const Lattice<3>&, const std::vector<CellType>&);
+
+}  // namespace mgelastic::grid

@@ -1,0 +1,21 @@
+#pragma once
+// Distributive Gauss-Seidel for the interior of the augmented system (Sec. 4.2, Algorithm 2).
+// With the distribution matrix M = [I, -grad; div, -2 Lap] the composed operator
+//   L M = [mu Lap I, 0; mu (1 + mu/lambda) div, -mu (1 + 2 mu/lambda) Lap]
+// is lower triangular with Laplacian diagonal blocks, so point Gauss-Seidel on L M v = b works
+// for any Poisson ratio. A step on equation i computes its residual r_i, delta = r_i / (LM)_ii,
+// and adds delta times column i of M to (u, p):
+//   psi_i at face k:  u_i[k] += delta,  p[k] -= delta/h,  p[k - s_i] += delta/h;
+//                     (LM)_ii = -2 d mu / h^2
+//   q at cell k:      u_i[k + s_i] += delta/h,  u_i[k] -= delta/h  (all i),
+//                     p[k] += 4 d delta / h^2,  p[k +- s_j] -= 2 delta / h^2;
+//                     (LM)_pp = mu (1 + 2 mu/lambda) 2 d / h^2
+// Sweeps visit u_1, u_2, (u_3), then p, in this exact order, over equations marked DISTRIBUTIVE.
+#include "mgelastic/grid/level.hpp"
+
+namespace mgelastic::grid {
+
+template <int Dim, typename Scalar>
+void distributive_sweep(Level<Dim, Scalar>& level);
+
+}  // namespace mgelastic::grid

@@ -1,0 +1,121 @@
+#include "mgelastic/grid/explicit_rows.hpp"
+
+#include <algorithm>
+
+namespace mgelastic::grid {
+namespace {
+
+void merge_duplicates(ExplicitRow& row) {
+  std::sort(row.terms.begin(), row.terms.end(),
+            [](const RowTerm& a, const RowTerm& b) { return a.variable < b.variable; });
+  std::vector<RowTerm> merged;
+  for (const RowTerm& term : row.terms) {
+    if (!merged.empty() && merged.back().variable == term.variable) {
+      merged.back().coefficient += term.coefficient;
+    } else {
+      merged.push_back(term);
+    }
+  }
+  std::erase_if(merged, [](const RowTerm& t) { return t.coefficient == 0.0; });
+  row.terms = std::move(merged);
+}
+
+}  // namespace
+
+template <int Dim>
+RowBuilder<Dim>::RowBuilder(const Lattice<Dim>& lattice, const std::vector<CellType>& cells,
+                            double mu, BoundaryStress<Dim> sigma)
+    : m_lattice(lattice), m_cells(cells), m_mu(mu), m_sigma(std::move(sigma)) {}
+
+template <int Dim>
+std::uint32_t RowBuilder<Dim>::u(int axis, std::ptrdiff_t k) const {
+  return static_cast<std::uint32_t>(axis * static_cast<std::ptrdiff_t>(m_lattice.size()) + k);
+}
+
+template <int Dim>
+std::uint32_t RowBuilder<Dim>::p(std::ptrdiff_t k) const {
+  return u(Dim, k);
+}
+
+// weight * P_ii(cell), P_ii = 2 mu (u_i[cell + s_i] - u_i[cell]) / h - mu p[cell].
+template <int Dim>
+void RowBuilder<Dim>::add_normal_stress(int i, std::ptrdiff_t cell, double weight,
+                                        ExplicitRow& row) const {
+  const std::ptrdiff_t si = m_lattice.stride(i);
+  const bool lower_exterior = exterior(cell - si);
+  const bool upper_exterior = exterior(cell + si);
+  if (lower_exterior || upper_exterior) {
+    // Boundary stress: the traction condition on the exterior face fixes its value.
+    Vec<Dim> where = lower_exterior ? m_lattice.face_center(i, cell)
+                                    : m_lattice.face_center(i, cell + si);
+    if (lower_exterior && upper_exterior) where = m_lattice.cell_center(cell);
+    row.constant += weight * sigma(i, i, where);
+    return;
+  }
+  const double h = m_lattice.h;
+  row.terms.push_back({u(i, cell + si), weight * 2.0 * m_mu / h});
+  row.terms.push_back({u(i, cell), -weight * 2.0 * m_mu / h});
+  row.terms.push_back({p(cell), -weight * m_mu});
+}
+
+// weight * P_ij(edge), P_ij = mu (u_i[e] - u_i[e - s_j] + u_j[e] - u_j[e - s_i]) / h.
+template <int Dim>
+void RowBuilder<Dim>::add_shear_stress(int i, int j, std::ptrdiff_t edge, double weight,
+                                       ExplicitRow& row) const {
+  const std::ptrdiff_t si = m_lattice.stride(i);
+  const std::ptrdiff_t sj = m_lattice.stride(j);
+  if (exterior(edge) || exterior(edge - si) || exterior(edge - sj) || exterior(edge - si - sj)) {
+    row.constant += weight * sigma(i, j, m_lattice.edge_center(i, j, edge));
+    return;
+  }
+  const double c = weight * m_mu / m_lattice.h;
+  row.terms.push_back({u(i, edge), c});
+  row.terms.push_back({u(i, edge - sj), -c});
+  row.terms.push_back({u(j, edge), c});
+  row.terms.push_back({u(j, edge - si), -c});
+}
+
+template <int Dim>
+ExplicitRow RowBuilder<Dim>::momentum(int axis, std::ptrdiff_t k) const {
+  ExplicitRow row;
+  const double inv_h = 1.0 / m_lattice.h;
+  const std::ptrdiff_t si = m_lattice.stride(axis);
+  add_normal_stress(axis, k, inv_h, row);
+  add_normal_stress(axis, k - si, -inv_h, row);
+  for (int j = 0; j < Dim; ++j) {
+    if (j == axis) continue;
+    add_shear_stress(axis, j, k + m_lattice.stride(j), inv_h, row);
+    add_shear_stress(axis, j, k, -inv_h, row);
+  }
+  merge_duplicates(row);
+  return row;
+}
+
+template <int Dim>
+ExplicitRow RowBuilder<Dim>::pressure(std::ptrdiff_t k) const {
+  ExplicitRow row;
+  const double h = m_lattice.h;
+  for (int i = 0; i < Dim; ++i) {
+    const std::ptrdiff_t si = m_lattice.stride(i);
+    const bool lower_exterior = exterior(k - si);
+    const bool upper_exterior = exterior(k + si);
+    if (lower_exterior || upper_exterior) {
+      // Boundary gradient: mu F_ii = (sigma + mu p) / 2 from the traction condition.
+      Vec<Dim> where = lower_exterior ? m_lattice.face_center(i, k)
+                                      : m_lattice.face_center(i, k + si);
+      if (lower_exterior && upper_exterior) where = m_lattice.cell_center(k);
+      row.constant += 0.5 * sigma(i, i, where);
+      row.pressure_extra += 0.5 * m_mu;
+      continue;
+    }
+    row.terms.push_back({u(i, k + si), m_mu / h});
+    row.terms.push_back({u(i, k), -m_mu / h});
+  }
+  merge_duplicates(row);
+  return row;
+}
+
+template class RowBuilder<2>;
+template class RowBuilder<3>;
+
+}  // namespace mgelastic::grid

@@ -1,0 +1,51 @@
+#pragma once
+// Explicit rows of the eliminated system L* of Sec. 5.3, built from the divergence form (11):
+//   momentum row of u_i at face k:  sum_j [P_ij(k + e_j/2) - P_ij(k - e_j/2)] / h
+//   pressure row at cell k:         mu sum_i F_ii + (mu^2/lambda) p
+// Interior stresses (stencils of only interior or Dirichlet variables) are expanded with the
+// finite differences (9)-(10); a boundary stress (one incident cell exterior) is replaced by its
+// traction value, moved to `constant`. A boundary gradient F_ii in a pressure row is eliminated
+// with P_ii = 2 mu F_ii - mu p = sigma, i.e. mu F_ii -> (sigma + mu p) / 2, which adds mu/2 to
+// the pressure diagonal (`pressure_extra`) and sigma/2 to `constant`.
+// Variables are global indices (field * lattice.size() + k); Dirichlet variables stay as terms.
+#include <cstdint>
+#include <vector>
+
+#include "mgelastic/grid/level.hpp"
+
+namespace mgelastic::grid {
+
+struct RowTerm {
+  std::uint32_t variable;
+  double coefficient;
+};
+
+struct ExplicitRow {
+  std::vector<RowTerm> terms;  // sorted by variable, duplicates merged
+  double constant = 0.0;
+  double pressure_extra = 0.0;  // pressure rows only
+};
+
+template <int Dim>
+class RowBuilder {
+ public:
+  RowBuilder(const Lattice<Dim>& lattice, const std::vector<CellType>& cells, double mu,
+             BoundaryStress<Dim> sigma);
+  ExplicitRow momentum(int axis, std::ptrdiff_t k) const;
+  ExplicitRow pressure(std::ptrdiff_t k) const;
+
+ private:
+  bool exterior(std::ptrdiff_t cell) const { return m_cells[cell] == CellType::EXTERIOR; }
+  double sigma(int i, int j, const Vec<Dim>& x) const { return m_sigma ? m_sigma(i, j, x) : 0.0; }
+  std::uint32_t u(int axis, std::ptrdiff_t k) const;
+  std::uint32_t p(std::ptrdiff_t k) const;
+  void add_normal_stress(int i, std::ptrdiff_t cell, double weight, ExplicitRow& row) const;
+  void add_shear_stress(int i, int j, std::ptrdiff_t edge, double weight, ExplicitRow& row) const;
+
+  const Lattice<Dim>& m_lattice;
+  const std::vector<CellType>& m_cells;
+  double m_mu;
+  BoundaryStress<Dim> m_sigma;
+};
+
+}  // namespace mgelastic::grid

@@ -1,0 +1,484 @@
+#include "mgelastic/grid/level.hpp"
+
+#include <algorithm>
+#include <optional>
+#include <unordered_map>
+
+#include <Eigen/Dense>
+#include <cstdlib>
+
+#include "mgelastic/grid/explicit_rows.hpp"
+
+namespace mgelastic::grid {
+namespace {
+
+template <int Dim>
+bool all_interior(const std::vector<CellType>& cells, std::initializer_list<std::ptrdiff_t> ks) {
+  return std::all_of(ks.begin(), ks.end(),
+                     [&](std::ptrdiff_t k) { return cells[k] == CellType::INTERIOR; });
+}
+
+template <int Dim>
+struct Classifier {
+  const Lattice<Dim>& lattice;
+  const std::vector<CellType>& cells;
+
+  bool interior(std::ptrdiff_t k) const { return cells[k] == CellType::INTERIOR; }
+  bool dirichlet(std::ptrdiff_t k) const { return cells[k] == CellType::DIRICHLET; }
+
+  // Face kind ignoring whether the face is referenced (TRACTION is decided afterwards).
+  VarKind face_kind(int axis, std::ptrdiff_t k) const {
+    if (lattice.coords(k)[axis] == 0) return VarKind::INACTIVE;
+    const std::ptrdiff_t a = k - lattice.stride(axis);
+    if (interior(a) && interior(k)) return VarKind::INTERIOR;
+    if (dirichlet(a) || dirichlet(k)) return VarKind::DIRICHLET;
+    return VarKind::INACTIVE;
+  }
+
+  // Distributive smoothing of u_axis at face k is valid when its uniform stencil and its
+  // distribution touch interior variables only (Sec. 5.2): all 12 (3D) cells around it interior.
+  bool distributive_face(int axis, std::ptrdiff_t k) const {
+    const std::ptrdiff_t si = lattice.stride(axis);
+    if (!(interior(k) && interior(k - si) && interior(k + si) && interior(k - 2 * si)))
+      return false;
+    for (int j = 0; j < Dim; ++j) {
+      if (j == axis) continue;
+      const std::ptrdiff_t sj = lattice.stride(j);
+      if (!(interior(k + sj) && interior(k - sj) && interior(k - si + sj) && interior(k - si - sj)))
+        return false;
+    }
+    return true;
+  }
+
+  // The pressure of an interior cell is relaxed distributively unless a face neighbor is
+  // exterior (a traction boundary gradient makes its row non-standard). Next to Dirichlet cells
+  // the distribution is restricted to the active variables (Sec. 5.3, last remark), which keeps
+  // the band pivots free of the lambda-dominated Schur terms near constraints.
+  bool distributive_cell(std::ptrdiff_t k) const {
+    if (!interior(k)) return false;
+    for (int j = 0; j < Dim; ++j) {
+      const std::ptrdiff_t sj = lattice.stride(j);
+      if (cells[k + sj] == CellType::EXTERIOR || cells[k - sj] == CellType::EXTERIOR) return false;
+    }
+    return true;
+  }
+};
+
+// Marks every face variable referenced by an interior equation's uniform stencil; the ones that
+// are neither interior nor Dirichlet are the traction boundary variables of Sec. 5.1.
+template <int Dim, typename Scalar>
+void mark_traction_variables(Level<Dim, Scalar>& level) {
+  const auto& lat = level.lattice;
+  auto mark = [&](int axis, std::ptrdiff_t k) {
+    if (level.kind[axis][k] == VarKind::INACTIVE) level.kind[axis][k] = VarKind::TRACTION;
+  };
+  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(lat.size()); ++k) {
+    if (level.kind[Dim][k] == VarKind::INTERIOR) {
+      for (int i = 0; i < Dim; ++i) {
+        mark(i, k);
+        mark(i, k + lat.stride(i));
+      }
+    }
+    for (int i = 0; i < Dim; ++i) {
+      if (level.kind[i][k] != VarKind::INTERIOR) continue;
+      const std::ptrdiff_t si = lat.stride(i);
+      for (int j = 0; j < Dim; ++j) {
+        const std::ptrdiff_t sj = lat.stride(j);
+        mark(i, k + sj);
+        mark(i, k - sj);
+        if (j == i) continue;
+        mark(j, k);
+        mark(j, k - si);
+        mark(j, k + sj);
+        mark(j, k - si + sj);
+      }
+    }
+  }
+}
+
+// Fig. 8 of the paper: fine interior faces whose residual restricts onto, or whose correction is
+// prolongated from, coarse faces that carry no interior equation.
+template <int Dim>
+struct RelocationTest {
+  const Lattice<Dim>& fine;
+  Lattice<Dim> coarse;
+  const std::vector<CellType>& coarse_cells;
+
+  bool coarse_face_interior(int axis, const IVec<Dim>& stored) const {
+    for (int a = 0; a < Dim; ++a)
+      if (stored[a] < 1 || stored[a] > coarse.cells[a] + (a == axis ? 1 : 0)) return false;
+    const std::ptrdiff_t k = coarse.index(stored);
+    return coarse_cells[k] == CellType::INTERIOR &&
+           coarse_cells[k - coarse.stride(axis)] == CellType::INTERIOR;
+  }
+
+  // along[a] lists the coarse stored coordinates touched along axis a.
+  bool all_coarse_interior(int axis, const std::array<std::vector<int>, Dim>& along) const {
+    IVec<Dim> s;
+    bool ok = true;
+    auto recurse = [&](auto&& self, int a) -> void {
+      if (!ok) return;
+      if (a == Dim) {
+        ok = coarse_face_interior(axis, s);
+        return;
+      }
+      for (int c : along[a]) {
+        s[a] = c;
+        self(self, a + 1);
+      }
+    };
+    recurse(recurse, 0);
+    return ok;
+  }
+
+  bool coarse_parent_interior(std::ptrdiff_t k) const {
+    IVec<Dim> s = fine.coords(k);
+    for (int a = 0; a < Dim; ++a) s[a] = (s[a] - 1) / 2 + 1;
+    return coarse_cells[coarse.index(s)] == CellType::INTERIOR;
+  }
+
+  // Returns {restricts onto a coarse non-equation, prolongates from a coarse boundary variable}.
+  std::pair<bool, bool> classify(int axis, std::ptrdiff_t k) const {
+    const IVec<Dim> s = fine.coords(k);
+    std::array<std::vector<int>, Dim> restrict_to, prolong_from;
+    for (int a = 0; a < Dim; ++a) {
+      const int c = s[a] - 1;  // unpadded face (a == axis) or cell coordinate
+      if (a == axis) {
+        restrict_to[a] = (c % 2 == 0) ? std::vector<int>{c / 2 + 1}
+                                      : std::vector<int>{(c - 1) / 2 + 1, (c + 1) / 2 + 1};
+        prolong_from[a] = restrict_to[a];
+      } else {
+        const int m = c / 2;
+        restrict_to[a] = {m + 1};
+        prolong_from[a] = {m + 1, (c % 2 == 0 ? m - 1 : m + 1) + 1};
+      }
+    }
+    return {!all_coarse_interior(axis, restrict_to), !all_coarse_interior(axis, prolong_from)};
+  }
+};
+
+template <typename Scalar>
+struct SparseRowsViewT {
+  const std::vector<std::uint32_t>& start;
+  const std::vector<std::uint32_t>& column;
+  const std::vector<Scalar>& value;
+};
+
+template <typename Scalar>
+void append_row(SparseRows<Scalar>& rows, std::uint32_t target, const ExplicitRow& row) {
+  rows.target.push_back(target);
+  for (const RowTerm& t : row.terms) {
+    rows.column.push_back(t.variable);
+    rows.value.push_back(static_cast<Scalar>(t.coefficient));
+  }
+  rows.start.push_back(static_cast<std::uint32_t>(rows.column.size()));
+  rows.constant.push_back(static_cast<Scalar>(row.constant));
+}
+
+template <int Dim, typename Scalar>
+void classify_relaxation(Level<Dim, Scalar>& level, const std::vector<CellType>* coarse_cells,
+                         std::vector<std::uint8_t>& pre, std::vector<std::uint8_t>& post) {
+  const Classifier<Dim> classifier{level.lattice, level.cells};
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(level.size());
+  std::optional<RelocationTest<Dim>> relocation;
+  if (coarse_cells) {
+    IVec<Dim> coarse_n;
+    for (int a = 0; a < Dim; ++a) coarse_n[a] = (level.lattice.cells[a] + 1) / 2;
+    relocation.emplace(RelocationTest<Dim>{level.lattice, Lattice<Dim>(coarse_n, 2 * level.lattice.h),
+                                           *coarse_cells});
+  }
+  // Eliminated pressures (relaxed exactly, Schur pivots in the band): cells with an exterior
+  // neighbor (traction-modified pressure rows) and cells whose coarse parent is not interior
+  // (Fig. 8: the coarse grid cannot correct them, so they must be relaxed robustly here).
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    if (level.kind[Dim][k] != VarKind::INTERIOR) continue;
+    const bool relocated = relocation && !relocation->coarse_parent_interior(k);
+    level.relaxation[Dim][k] = classifier.distributive_cell(k) && !relocated
+                                   ? Relaxation::DISTRIBUTIVE
+                                   : Relaxation::BAND;
+  }
+  // Band faces: non-uniform footprint, next to an eliminated pressure (a psi step there would
+  // be undone by the exact pressure update and over-relax u), or in the Fig. 8 sets.
+  for (int i = 0; i < Dim; ++i) {
+    const std::ptrdiff_t si = level.lattice.stride(i);
+    for (std::ptrdiff_t k = 0; k < n; ++k) {
+      if (level.kind[i][k] != VarKind::INTERIOR) continue;
+      bool band = !classifier.distributive_face(i, k) ||
+                  level.relaxation[Dim][k] == Relaxation::BAND ||
+                  level.relaxation[Dim][k - si] == Relaxation::BAND;
+      if (relocation) {
+        const auto [restricts_badly, prolongs_badly] = relocation->classify(i, k);
+        pre[i * n + k] = restricts_badly;
+        post[i * n + k] = prolongs_badly;
+        band = band || restricts_badly || prolongs_badly;
+      }
+      level.relaxation[i][k] = band ? Relaxation::BAND : Relaxation::DISTRIBUTIVE;
+    }
+  }
+}
+
+template <int Dim, typename Scalar>
+void build_band_rows(Level<Dim, Scalar>& level, const RowBuilder<Dim>& builder,
+                     const std::vector<std::uint8_t>& pre, const std::vector<std::uint8_t>& post) {
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(level.size());
+  const double mu = level.mu, lambda = level.lambda;
+  std::vector<std::int32_t> band_p_index(n, -1);
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    if (level.relaxation[Dim][k] != Relaxation::BAND) continue;
+    const ExplicitRow row = builder.pressure(k);
+    band_p_index[k] = static_cast<std::int32_t>(level.band_p.rows());
+    append_row(level.band_p, level.global(Dim, k), row);
+    level.band_p_extra.push_back(static_cast<Scalar>(row.pressure_extra));
+    // 1/D with D = mu^2/lambda + extra, written to stay finite (zero) at lambda = 0.
+    level.band_p_inverse.push_back(
+        static_cast<Scalar>(lambda / (mu * mu + lambda * row.pressure_extra)));
+  }
+  // Rows in lattice order (all components at one location together): Gauss-Seidel then
+  // sweeps the thin band like a front, which converges faster than component by component.
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    for (int i = 0; i < Dim; ++i) {
+      if (level.relaxation[i][k] != Relaxation::BAND) continue;
+      const ExplicitRow row = builder.momentum(i, k);
+      const std::uint32_t self = level.global(i, k);
+      double schur = 0.0;
+      std::array<std::uint32_t, 2> coupled{UINT32_MAX, UINT32_MAX};
+      std::array<Scalar, 2> factor{0, 0};
+      int m = 0;
+      for (const RowTerm& t : row.terms) {
+        if (t.variable == self) schur += t.coefficient;
+        // Adjacent pressures relaxed distributively stay fixed during band sweeps (Sec. 5.3:
+        // interior variables not being smoothed act as Dirichlet values); eliminated band
+        // pressures follow u exactly, which gives the Schur-complement pivot.
+        if (t.variable / n == static_cast<std::uint32_t>(Dim) && band_p_index[t.variable % n] >= 0) {
+          const double inverse = level.band_p_inverse[band_p_index[t.variable % n]];
+          schur -= t.coefficient * t.coefficient * inverse;
+          coupled[m] = t.variable;
+          factor[m++] = static_cast<Scalar>(inverse * t.coefficient);
+        }
+      }
+      level.band_u_pressure.push_back(coupled);
+      level.band_u_pressure_factor.push_back(factor);
+      const auto index = static_cast<std::uint32_t>(level.band_u.rows());
+      if (pre[i * n + k]) level.pre_restriction_rows.push_back(index);
+      if (post[i * n + k]) level.post_prolongation_rows.push_back(index);
+      append_row(level.band_u, self, row);
+      level.band_u_schur_diagonal.push_back(static_cast<Scalar>(schur));
+    }
+  }
+}
+
+template <typename View>
+double row_coefficient(const View& rows, std::uint32_t m, std::uint32_t variable) {
+  for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e)
+    if (rows.column[e] == variable) return rows.value[e];
+  return 0.0;
+}
+
+// One block per eliminated cell: its band faces, with the inverse of their Schur block
+//   S_loc[f][g] = A_fg - G_fc G_gc / D_c (f != g),  S_loc[f][f] = Schur diagonal of row f.
+template <int Dim, typename Scalar>
+void build_band_blocks(Level<Dim, Scalar>& level) {
+  const auto n = static_cast<std::ptrdiff_t>(level.size());
+  std::unordered_map<std::uint32_t, std::uint32_t> row_of;
+  for (std::uint32_t m = 0; m < level.band_u.rows(); ++m) row_of[level.band_u.target[m]] = m;
+  std::vector<std::uint8_t> in_block(level.band_u.rows(), 0);
+  constexpr int B = 2 * Dim;
+  for (std::size_t e = 0; e < level.band_p.rows(); ++e) {
+    const std::ptrdiff_t c = level.band_p.target[e] % n;
+    std::array<std::uint32_t, B> rows;
+    rows.fill(UINT32_MAX);
+    int count = 0;
+    for (int i = 0; i < Dim; ++i) {
+      for (std::ptrdiff_t face : {c, c + level.lattice.stride(i)}) {
+        const auto it = row_of.find(level.global(i, face));
+        if (it != row_of.end()) rows[count++] = it->second;
+      }
+    }
+    if (count < 2) continue;
+    const SparseRowsViewT<Scalar> view{level.band_u.start, level.band_u.column, level.band_u.value};
+    const std::uint32_t pc = level.band_p.target[e];
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic> s(count, count);
+    for (int a = 0; a < count; ++a) {
+      for (int b = 0; b < count; ++b) {
+        if (a == b) {
+          s(a, a) = level.band_u_schur_diagonal[rows[a]];
+          continue;
+        }
+        const double g_a = row_coefficient(view, rows[a], pc);
+        const double g_b = row_coefficient(view, rows[b], pc);
+        s(a, b) = row_coefficient(view, rows[a], level.band_u.target[rows[b]]) -
+                  g_a * g_b * level.band_p_inverse[e];
+      }
+    }
+    // S_loc is a principal block of the symmetric negative definite Schur complement.
+    const Eigen::MatrixXd inverse = s.inverse();
+    for (int a = 0; a < B; ++a)
+      for (int b = 0; b < B; ++b)
+        level.band_block_inverse.push_back(
+            a < count && b < count ? static_cast<Scalar>(inverse(a, b)) : Scalar(0));
+    for (int a = 0; a < count; ++a) in_block[rows[a]] = 1;
+    level.band_blocks.push_back(rows);
+  }
+  for (std::uint32_t m = 0; m < level.band_u.rows(); ++m)
+    if (!in_block[m]) level.band_point_rows.push_back(m);
+}
+
+template <int Dim, typename Scalar>
+bool known_after_normal_pass(const Level<Dim, Scalar>& level, int axis, std::ptrdiff_t k) {
+  const VarKind kind = level.kind[axis][k];
+  if (kind == VarKind::INTERIOR || kind == VarKind::DIRICHLET) return true;
+  if (kind != VarKind::TRACTION) return false;
+  return level.cells[k] == CellType::INTERIOR ||
+         level.cells[k - level.lattice.stride(axis)] == CellType::INTERIOR;
+}
+
+template <int Dim, typename Scalar>
+void add_shear_rule(Level<Dim, Scalar>& level, const BoundaryStress<Dim>& sigma, int i,
+                    std::ptrdiff_t g) {
+  const auto& lat = level.lattice;
+  const IVec<Dim> s = lat.coords(g);
+  const std::ptrdiff_t si = lat.stride(i);
+  const double h = lat.h, mu = level.mu;
+  ShearTractionRule<Scalar> rule{level.global(i, g), {}};
+  auto known = [&](int axis, std::ptrdiff_t k) {
+    return known_after_normal_pass(level, axis, k);
+  };
+  auto stress = [&](int j, std::ptrdiff_t edge) {
+    return sigma ? sigma(i, j, lat.edge_center(i, j, edge)) : 0.0;
+  };
+  for (int j = 0; j < Dim; ++j) {
+    if (j == i) continue;
+    const std::ptrdiff_t sj = lat.stride(j);
+    if (s[j] >= 1 && s[i] >= 1 && known(i, g - sj) &&
+        level.kind[i][g - sj] != VarKind::TRACTION && known(j, g) && known(j, g - si)) {
+      rule.candidates.push_back({level.global(i, g - sj), level.global(j, g),
+                                 level.global(j, g - si), Scalar(-1),
+                                 static_cast<Scalar>(h * stress(j, g) / mu)});
+    }
+    if (s[j] + 1 <= lat.cells[j] + 1 && s[i] >= 1 && known(i, g + sj) &&
+        level.kind[i][g + sj] != VarKind::TRACTION && known(j, g + sj) && known(j, g + sj - si)) {
+      rule.candidates.push_back({level.global(i, g + sj), level.global(j, g + sj),
+                                 level.global(j, g + sj - si), Scalar(1),
+                                 static_cast<Scalar>(-h * stress(j, g + sj) / mu)});
+    }
+  }
+  level.traction.shear.push_back(std::move(rule));
+}
+
+template <int Dim, typename Scalar>
+void add_thin_rule(Level<Dim, Scalar>& level, const BoundaryStress<Dim>& sigma, int i,
+                   std::ptrdiff_t cell) {
+  const auto& lat = level.lattice;
+  const std::ptrdiff_t si = lat.stride(i);
+  ThinTractionRule<Scalar> rule{level.global(i, cell), level.global(i, cell + si),
+                                level.global(Dim, cell), {},
+                                static_cast<Scalar>(sigma ? sigma(i, i, lat.cell_center(cell)) : 0)};
+  for (int j = 0; j < Dim; ++j) {
+    if (j == i) continue;
+    for (std::ptrdiff_t nb : {cell - lat.stride(j), cell + lat.stride(j)}) {
+      for (std::ptrdiff_t face : {nb, nb + si}) {
+        const VarKind kind = level.kind[i][face];
+        if (kind == VarKind::INTERIOR || kind == VarKind::DIRICHLET)
+          rule.neighbors.push_back(level.global(i, face));
+      }
+    }
+  }
+  level.traction.thin.push_back(std::move(rule));
+}
+
+template <int Dim, typename Scalar>
+void build_traction_rules(Level<Dim, Scalar>& level, const BoundaryStress<Dim>& sigma) {
+  const auto& lat = level.lattice;
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(level.size());
+  for (int i = 0; i < Dim; ++i) {
+    const std::ptrdiff_t si = lat.stride(i);
+    for (std::ptrdiff_t g = 0; g < n; ++g) {
+      if (level.kind[i][g] != VarKind::TRACTION) continue;
+      const bool lower_interior = level.cells[g - si] == CellType::INTERIOR;
+      const bool upper_interior = level.cells[g] == CellType::INTERIOR;
+      const Scalar s = static_cast<Scalar>(sigma ? sigma(i, i, lat.face_center(i, g)) : 0);
+      if (lower_interior) {
+        if (level.kind[i][g - si] == VarKind::TRACTION) continue;  // thin: handled below
+        level.traction.normal.push_back(
+            {level.global(i, g), level.global(i, g - si), level.global(Dim, g - si), 1, s});
+      } else if (upper_interior) {
+        if (level.kind[i][g + si] == VarKind::TRACTION) {
+          add_thin_rule(level, sigma, i, g);
+          continue;
+        }
+        level.traction.normal.push_back(
+            {level.global(i, g), level.global(i, g + si), level.global(Dim, g), -1, s});
+      } else {
+        add_shear_rule(level, sigma, i, g);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+template <int Dim, typename Scalar>
+std::size_t Level<Dim, Scalar>::interior_unknowns() const {
+  std::size_t count = 0;
+  for (const auto& field : kind) count += std::count(field.begin(), field.end(), VarKind::INTERIOR);
+  return count;
+}
+
+template <int Dim, typename Scalar>
+Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType> cells,
+                               const Material& material, const BoundaryStress<Dim>& sigma,
+                               const std::vector<CellType>* coarse_cells) {
+  Level<Dim, Scalar> level;
+  level.lattice = lattice;
+  level.cells = std::move(cells);
+  level.mu = static_cast<Scalar>(material.mu());
+  level.lambda = static_cast<Scalar>(material.lambda());
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(lattice.size());
+  const Classifier<Dim> classifier{level.lattice, level.cells};
+  for (int f = 0; f <= Dim; ++f) {
+    level.x[f].assign(n, Scalar(0));
+    level.b[f].assign(n, Scalar(0));
+    level.r[f].assign(n, Scalar(0));
+    level.kind[f].assign(n, VarKind::INACTIVE);
+    level.relaxation[f].assign(n, Relaxation::NONE);
+  }
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    for (int i = 0; i < Dim; ++i) level.kind[i][k] = classifier.face_kind(i, k);
+    if (classifier.interior(k)) level.kind[Dim][k] = VarKind::INTERIOR;
+  }
+  mark_traction_variables(level);
+  std::vector<std::uint8_t> pre(Dim * n, 0), post(Dim * n, 0);
+  classify_relaxation(level, coarse_cells, pre, post);
+  const RowBuilder<Dim> builder(level.lattice, level.cells, material.mu(), sigma);
+  build_band_rows(level, builder, pre, post);
+  build_band_blocks(level);
+  build_traction_rules(level, sigma);
+  return level;
+}
+
+template <int Dim, typename Scalar>
+void set_dirichlet_values(Level<Dim, Scalar>& level,
+                          const std::function<Vec<Dim>(const Vec<Dim>&)>& displacement) {
+  if (!displacement) return;
+  for (int i = 0; i < Dim; ++i) {
+    for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(level.size()); ++k) {
+      if (level.kind[i][k] == VarKind::DIRICHLET)
+        level.x[i][k] = static_cast<Scalar>(displacement(level.lattice.face_center(i, k))[i]);
+    }
+  }
+}
+
+#define MGELASTIC_INSTANTIATE(D, S)                                                       \
+  template struct Level<D, S>;                                                            \
+  template Level<D, S> build_level<D, S>(const Lattice<D>&, std::vector<CellType>,        \
+                                         const Material&, const BoundaryStress<D>&,       \
+                                         const std::vector<CellType>*);                   \
+  template void set_dirichlet_values<D, S>(Level<D, S>&,                                  \
+                                           const std::function<Vec<D>(const Vec<D>&)>&);
+MGELASTIC_INSTANTIATE(2, float)
+MGELASTIC_INSTANTIATE(2, double)
+MGELASTIC_INSTANTIATE(3, float)
+MGELASTIC_INSTANTIATE(3, double)
+#undef MGELASTIC_INSTANTIATE
+
+}  // namespace mgelastic::grid

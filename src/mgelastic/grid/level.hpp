@@ -1,0 +1,135 @@
+#pragma once
+// One level of the grid hierarchy: the discretized augmented system (5) on a typed lattice,
+// with the classification of variables and equations of Sec. 5.1 and the explicit boundary-band
+// rows of Sec. 5.3.
+//
+// Fields (x = unknowns incl. Dirichlet and back-substituted traction values, b = right-hand
+// side, r = residual scratch) are arrays of lattice.size() entries in the layout of lattice.hpp;
+// index 0..Dim-1 is u_i, index Dim is p. A "global variable index" is field * size + k.
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "mgelastic/grid/lattice.hpp"
+#include "mgelastic/grid/material.hpp"
+
+namespace mgelastic::grid {
+
+// Sec. 5.1: interior variables lie strictly inside the interior region; boundary variables are
+// referenced by interior equations and touch a Dirichlet cell (DIRICHLET) or not (TRACTION).
+enum class VarKind : std::uint8_t { INACTIVE = 0, INTERIOR = 1, DIRICHLET = 2, TRACTION = 3 };
+
+// Which smoother relaxes the equation collocated with an interior variable.
+enum class Relaxation : std::uint8_t { NONE = 0, DISTRIBUTIVE = 1, BAND = 2 };
+
+// Explicit rows in CSR form over global variable indices. Row value = sum value * x[column];
+// `constant` holds boundary stresses moved to the right-hand side (equation: row = b - constant).
+template <typename Scalar>
+struct SparseRows {
+  std::vector<std::uint32_t> target;  // global index of the row's own (collocated) variable
+  std::vector<std::uint32_t> start{0};
+  std::vector<std::uint32_t> column;
+  std::vector<Scalar> value;
+  std::vector<Scalar> constant;
+  std::size_t rows() const { return target.size(); }
+};
+
+// Back-substitution of traction variables (Sec. 5.3, last paragraph). First the faces between an
+// interior and an exterior cell from the normal stress condition P_ii = sigma, then faces half a
+// cell outside from the shear conditions P_ij = sigma (averaged over the available edges).
+template <typename Scalar>
+struct NormalTractionRule {
+  std::uint32_t face, partner, cell;  // global indices: traction face, other face of cell, p
+  Scalar sign;                        // +1: face is the cell's upper face
+  Scalar sigma;
+};
+template <typename Scalar>
+struct ThinTractionRule {  // both faces of a one-cell-thin interior cell are traction faces
+  std::uint32_t lower, upper, cell;
+  std::vector<std::uint32_t> neighbors;  // known u_i values that set the mean displacement
+  Scalar sigma;
+};
+template <typename Scalar>
+struct ShearTractionCandidate {
+  std::uint32_t partner, plus, minus;  // u_i[face] = u_i[partner] + sign (u_j[plus] - u_j[minus])
+  Scalar sign;                         //              + sigma_term
+  Scalar sigma_term;
+};
+template <typename Scalar>
+struct ShearTractionRule {
+  std::uint32_t face;
+  std::vector<ShearTractionCandidate<Scalar>> candidates;
+};
+template <typename Scalar>
+struct TractionRules {
+  std::vector<NormalTractionRule<Scalar>> normal;
+  std::vector<ThinTractionRule<Scalar>> thin;
+  std::vector<ShearTractionRule<Scalar>> shear;
+};
+
+// Boundary stress values for the eliminated stresses (see problem.hpp); empty = zero traction.
+template <int Dim>
+using BoundaryStress = std::function<double(int i, int j, const Vec<Dim>&)>;
+
+template <int Dim, typename Scalar>
+struct Level {
+  Lattice<Dim> lattice;
+  std::vector<CellType> cells;
+  Scalar mu = 1, lambda = 0;
+  std::array<std::vector<Scalar>, Dim + 1> x, b, r;
+  std::array<std::vector<VarKind>, Dim + 1> kind;
+  std::array<std::vector<Relaxation>, Dim + 1> relaxation;
+
+  // Boundary band (Sec. 5.3): momentum rows relaxed by Gauss-Seidel on the Schur complement
+  // L_phi - G D_p^-1 G^T, and the pressure rows eliminated there (updated exactly).
+  SparseRows<Scalar> band_u;
+  std::vector<Scalar> band_u_schur_diagonal;
+  // Keeping eliminated pressures exact while u moves: p_c -= factor * delta for the (up to two)
+  // band pressures of the row (factor = D_c^-1 G_fc; index UINT32_MAX when absent).
+  std::vector<std::array<std::uint32_t, 2>> band_u_pressure;
+  std::vector<std::array<Scalar, 2>> band_u_pressure_factor;
+  SparseRows<Scalar> band_p;           // u terms only; the p diagonal is D = mu^2/lambda + extra
+  std::vector<Scalar> band_p_extra;    // mu/2 per eliminated boundary gradient F_ii
+  std::vector<Scalar> band_p_inverse;  // 1 / D (0 when lambda = 0, where p vanishes)
+  // Band momentum rows that get the extra sweeps of Sec. 6 (Fig. 8): before restriction (their
+  // residual would land on coarse non-equations) and after prolongation (they read corrections
+  // from coarse boundary variables). Indices into band_u.
+  std::vector<std::uint32_t> pre_restriction_rows, post_prolongation_rows;
+  TractionRules<Scalar> traction;
+  // Block relaxation of the band (Sec. 5.3, Gauss-Seidel on the Schur complement in blocks):
+  // the band faces of each eliminated cell are solved together, with the inverse of their
+  // Schur block S_loc stored (row-major, block_size^2 entries per cell); band rows outside
+  // every block are relaxed point-wise.
+  static constexpr int block_size = 2 * Dim;
+  std::vector<std::array<std::uint32_t, 2 * Dim>> band_blocks;  // band_u rows, UINT32_MAX = none
+  std::vector<Scalar> band_block_inverse;
+  std::vector<std::uint32_t> band_point_rows;
+
+  std::size_t size() const { return lattice.size(); }
+  std::uint32_t global(int field, std::ptrdiff_t k) const {
+    return static_cast<std::uint32_t>(field * static_cast<std::ptrdiff_t>(size()) + k);
+  }
+  Scalar& at(std::uint32_t global_index) {
+    return x[global_index / size()][global_index % size()];
+  }
+  Scalar at(std::uint32_t global_index) const {
+    return x[global_index / size()][global_index % size()];
+  }
+  std::size_t interior_unknowns() const;  // interior u and p variables
+};
+
+// Builds a level: classifies variables, picks distributive vs band relaxation, builds the band
+// rows and traction rules. `coarse_cells` (may be null on the coarsest level) is the next coarser
+// level's typing, which defines the Fig. 8 sets. Dirichlet values are not set here.
+template <int Dim, typename Scalar>
+Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType> cells,
+                               const Material& material, const BoundaryStress<Dim>& sigma,
+                               const std::vector<CellType>* coarse_cells);
+
+// Writes prescribed displacements into every Dirichlet variable of the level.
+template <int Dim, typename Scalar>
+void set_dirichlet_values(Level<Dim, Scalar>& level,
+                          const std::function<Vec<Dim>(const Vec<Dim>&)>& displacement);
+
+}  // namespace mgelastic::grid

@@ -1,0 +1,182 @@
+#include "mgelastic/grid/multigrid.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "mgelastic/core/error.hpp"
+#include "mgelastic/core/timer.hpp"
+#include "mgelastic/grid/boundary_smoother.hpp"
+#include "mgelastic/grid/coarsening.hpp"
+#include "mgelastic/grid/distributive_smoother.hpp"
+#include "mgelastic/grid/problem_validation.hpp"
+#include "mgelastic/grid/residual.hpp"
+#include "mgelastic/grid/transfer.hpp"
+
+namespace mgelastic::grid {
+namespace {
+
+template <int Dim>
+bool can_coarsen(const Lattice<Dim>& lattice) {
+  for (int a = 0; a < Dim; ++a)
+    if (lattice.cells[a] < 4) return false;
+  return true;
+}
+
+template <int Dim>
+std::size_t count_interior(const std::vector<CellType>& cells) {
+  return static_cast<std::size_t>(std::count(cells.begin(), cells.end(), CellType::INTERIOR));
+}
+
+// Coarsening continues while the next level still resolves the body with at least
+// `coarsest_min_cells` cells along its longest axis (coarser levels model traction boundaries
+// too crudely to correct the body's global deformation modes) and the current level is larger
+// than what the direct solver handles cheaply. The first coarsening always happens.
+template <int Dim>
+bool keep_coarsening(const Lattice<Dim>& lattice, const std::vector<CellType>& cells,
+                     std::size_t levels, const MultigridOptions& options) {
+  if (!can_coarsen(lattice)) return false;
+  if (options.max_levels > 0 && static_cast<int>(levels) >= options.max_levels) return false;
+  if (levels == 1) return true;
+  if (count_interior<Dim>(cells) * (Dim + 1) <= options.coarsest_max_unknowns) return false;
+  return (lattice.cells.maxCoeff() + 1) / 2 >= options.coarsest_min_cells;
+}
+
+}  // namespace
+
+int default_boundary_sweeps(double poisson_ratio) {
+  if (poisson_ratio <= 0.45) return 2;
+  if (poisson_ratio <= 0.49) return 3;
+  return 4;
+}
+
+template <int Dim, typename Scalar>
+Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, MultigridOptions options)
+    : m_options(options) {
+  validate(problem);
+  m_boundary_sweeps = options.boundary_sweeps > 0
+                          ? options.boundary_sweeps
+                          : default_boundary_sweeps(problem.material.poisson_ratio);
+  // Cell types of every level first: each level's band depends on the next coarser typing.
+  std::vector<Lattice<Dim>> lattices{problem.lattice};
+  std::vector<std::vector<CellType>> cells{problem.cells};
+  while (keep_coarsening(lattices.back(), cells.back(), lattices.size(), options)) {
+    cells.push_back(coarsen_cells(lattices.back(), cells.back()));
+    lattices.push_back(coarsen(lattices.back()));
+  }
+  for (std::size_t l = 0; l < lattices.size(); ++l) {
+    const bool finest = l == 0;
+    const bool coarsest = l + 1 == lattices.size();
+    m_levels.push_back(build_level<Dim, Scalar>(
+        lattices[l], cells[l], problem.material,
+        finest ? problem.boundary_stress : BoundaryStress<Dim>{},
+        coarsest ? nullptr : &cells[l + 1]));
+  }
+  m_coarse = std::make_unique<CoarseSolver<Dim, Scalar>>(m_levels.back());
+  set_dirichlet_values(m_levels.front(), problem.dirichlet_displacement);
+  set_right_hand_side(problem);
+  back_substitute_traction(m_levels.front());
+}
+
+template <int Dim, typename Scalar>
+void Multigrid<Dim, Scalar>::set_right_hand_side(const ElasticityProblem<Dim>& problem) {
+  Level<Dim, Scalar>& fine = m_levels.front();
+  if (!problem.body_force) return;
+  // L u = div P = -f: the right-hand side of the momentum rows is minus the body force.
+  for (int i = 0; i < Dim; ++i) {
+    for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(fine.size()); ++k) {
+      if (fine.kind[i][k] == VarKind::INTERIOR)
+        fine.b[i][k] = static_cast<Scalar>(-problem.body_force(fine.lattice.face_center(i, k))[i]);
+    }
+  }
+}
+
+template <int Dim, typename Scalar>
+void Multigrid<Dim, Scalar>::smooth(int l) {
+  Level<Dim, Scalar>& level = m_levels[l];
+  // Sec. 5.2: a boundary pass, the interior distributive pass, a last boundary pass; then the
+  // traction variables are back-substituted so every boundary condition holds exactly.
+  Timer timer;
+  band_gauss_seidel(level, m_boundary_sweeps);
+  m_phases.boundary_smoothing += timer.seconds();
+  timer.restart();
+  distributive_sweep(level);
+  m_phases.interior_smoothing += timer.seconds();
+  timer.restart();
+  band_gauss_seidel(level, m_boundary_sweeps);
+  back_substitute_traction(level);
+  m_phases.boundary_smoothing += timer.seconds();
+}
+
+template <int Dim, typename Scalar>
+double Multigrid<Dim, Scalar>::residual() {
+  return compute_residual(m_levels.front());
+}
+
+template <int Dim, typename Scalar>
+double Multigrid<Dim, Scalar>::vcycle() {
+  const int coarsest = levels() - 1;
+  for (int l = 0; l < coarsest; ++l) {
+    smooth(l);
+    Timer timer;
+    band_gauss_seidel(m_levels[l], m_options.relocation_sweeps,
+                      &m_levels[l].pre_restriction_rows);
+    m_phases.boundary_smoothing += timer.seconds();
+    timer.restart();
+    compute_residual(m_levels[l]);
+    m_phases.residual += timer.seconds();
+    timer.restart();
+    restrict_residual(m_levels[l], m_levels[l + 1]);
+    m_phases.restriction += timer.seconds();
+  }
+  Timer timer;
+  m_coarse->solve(m_levels[coarsest]);
+  m_phases.coarse_solve += timer.seconds();
+  for (int l = coarsest - 1; l >= 0; --l) {
+    timer.restart();
+    prolongate_correction(m_levels[l + 1], m_levels[l]);
+    m_phases.prolongation += timer.seconds();
+    timer.restart();
+    band_gauss_seidel(m_levels[l], m_options.relocation_sweeps,
+                      &m_levels[l].post_prolongation_rows);
+    m_phases.boundary_smoothing += timer.seconds();
+    smooth(l);
+  }
+  timer.restart();
+  const double norm = compute_residual(m_levels.front());
+  m_phases.other += timer.seconds();
+  return norm;
+}
+
+template <int Dim, typename Scalar>
+SolveReport Multigrid<Dim, Scalar>::solve(double relative_tolerance, int max_cycles) {
+  SolveReport report;
+  Timer timer;
+  report.residuals.push_back(residual());
+  const double target = relative_tolerance * report.residuals.front();
+  while (report.cycles() < max_cycles && report.residuals.back() > target) {
+    const double norm = vcycle();
+    report.residuals.push_back(norm);
+    if (!std::isfinite(norm)) {
+      std::ostringstream history;
+      for (double r : report.residuals) history << " " << r;
+      throw Error("V-cycle " + std::to_string(report.cycles()) +
+                      " produced a non-finite residual; residual history:" + history.str(),
+                  {.pointer = "solver"});
+    }
+  }
+  report.converged = report.residuals.back() <= target;
+  report.seconds = timer.seconds();
+  return report;
+}
+
+template <int Dim, typename Scalar>
+SolveReport Multigrid<Dim, Scalar>::run_cycles(int cycles) {
+  return solve(0.0, cycles);
+}
+
+template class Multigrid<2, float>;
+template class Multigrid<2, double>;
+template class Multigrid<3, float>;
+template class Multigrid<3, double>;
+
+}  // namespace mgelastic::grid

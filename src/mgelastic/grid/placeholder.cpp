@@ -1,1 +1,0 @@
-// Placeholder until the grid engine's first files land.

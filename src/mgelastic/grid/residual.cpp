@@ -1,0 +1,107 @@
+#include "mgelastic/grid/residual.hpp"
+
+#include <cmath>
+
+#include "mgelastic/grid/stencil.hpp"
+
+namespace mgelastic::grid {
+namespace {
+
+template <int Dim, typename Scalar, int Axis>
+void momentum_residual(Level<Dim, Scalar>& level, const std::array<const Scalar*, Dim>& u,
+                       const std::array<std::ptrdiff_t, Dim>& s,
+                       const StencilConstants<Dim, Scalar>& c) {
+  const Relaxation* relax = level.relaxation[Axis].data();
+  const Scalar* b = level.b[Axis].data();
+  Scalar* r = level.r[Axis].data();
+  const Scalar* p = level.x[Dim].data();
+  const auto n = static_cast<std::ptrdiff_t>(level.size());
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    r[k] = relax[k] == Relaxation::DISTRIBUTIVE
+               ? b[k] - momentum_row<Dim, Scalar, Axis>(u, p, s, k, c)
+               : Scalar(0);
+  }
+}
+
+template <int Dim, typename Scalar>
+void pressure_residual(Level<Dim, Scalar>& level, const std::array<const Scalar*, Dim>& u,
+                       const std::array<std::ptrdiff_t, Dim>& s,
+                       const StencilConstants<Dim, Scalar>& c) {
+  const Relaxation* relax = level.relaxation[Dim].data();
+  const Scalar* b = level.b[Dim].data();
+  const Scalar* p = level.x[Dim].data();
+  Scalar* r = level.r[Dim].data();
+  const Scalar mu = level.mu, lambda = level.lambda;
+  const Scalar d = lambda > 0 ? mu * mu / lambda : Scalar(0);
+  const auto n = static_cast<std::ptrdiff_t>(level.size());
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    r[k] = relax[k] == Relaxation::DISTRIBUTIVE && lambda > 0
+               ? b[k] - mu * divergence<Dim, Scalar>(u, s, k, c.inv_h) - d * p[k]
+               : Scalar(0);
+  }
+}
+
+template <int Dim, typename Scalar>
+void band_residual(Level<Dim, Scalar>& level) {
+  const auto n = level.size();
+  const auto& u_rows = level.band_u;
+  for (std::size_t m = 0; m < u_rows.rows(); ++m) {
+    Scalar sum = 0;
+    for (std::uint32_t e = u_rows.start[m]; e < u_rows.start[m + 1]; ++e)
+      sum += u_rows.value[e] * level.at(u_rows.column[e]);
+    const std::uint32_t t = u_rows.target[m];
+    level.r[t / n][t % n] = level.b[t / n][t % n] - u_rows.constant[m] - sum;
+  }
+  if (level.lambda <= 0) return;
+  const auto& p_rows = level.band_p;
+  const Scalar d0 = level.mu * level.mu / level.lambda;
+  for (std::size_t m = 0; m < p_rows.rows(); ++m) {
+    Scalar sum = 0;
+    for (std::uint32_t e = p_rows.start[m]; e < p_rows.start[m + 1]; ++e)
+      sum += p_rows.value[e] * level.at(p_rows.column[e]);
+    const std::uint32_t t = p_rows.target[m];
+    const Scalar p = level.at(t);
+    level.r[Dim][t % n] = level.b[Dim][t % n] - p_rows.constant[m] - sum -
+                          (d0 + level.band_p_extra[m]) * p;
+  }
+}
+
+}  // namespace
+
+template <int Dim, typename Scalar>
+double compute_residual(Level<Dim, Scalar>& level) {
+  std::array<const Scalar*, Dim> u;
+  std::array<std::ptrdiff_t, Dim> s;
+  for (int i = 0; i < Dim; ++i) {
+    u[i] = level.x[i].data();
+    s[i] = level.lattice.stride(i);
+  }
+  const Scalar inv_h = static_cast<Scalar>(1.0 / level.lattice.h);
+  const StencilConstants<Dim, Scalar> c{level.mu, inv_h, inv_h * inv_h};
+  momentum_residual<Dim, Scalar, 0>(level, u, s, c);
+  momentum_residual<Dim, Scalar, 1>(level, u, s, c);
+  if constexpr (Dim == 3) momentum_residual<Dim, Scalar, 2>(level, u, s, c);
+  pressure_residual<Dim, Scalar>(level, u, s, c);
+  band_residual(level);
+  return residual_norm(level);
+}
+
+template <int Dim, typename Scalar>
+double residual_norm(const Level<Dim, Scalar>& level) {
+  double sum = 0.0;
+  for (int i = 0; i < Dim; ++i)
+    for (Scalar v : level.r[i]) sum += static_cast<double>(v) * v;
+  for (Scalar v : level.r[Dim]) sum += static_cast<double>(v) * v;
+  return std::sqrt(sum);
+}
+
+#define MGELASTIC_INSTANTIATE(D, S)                                    \
+  template double compute_residual<D, S>(Level<D, S>&);                \
+  template double residual_norm<D, S>(const Level<D, S>&);
+MGELASTIC_INSTANTIATE(2, float)
+MGELASTIC_INSTANTIATE(2, double)
+MGELASTIC_INSTANTIATE(3, float)
+MGELASTIC_INSTANTIATE(3, double)
+#undef MGELASTIC_INSTANTIATE
+
+}  // namespace mgelastic::grid

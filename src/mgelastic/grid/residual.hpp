@@ -1,0 +1,22 @@
+#pragma once
+// Residual r = b - L* x of the augmented system on one level: uniform stencils (stencil.hpp)
+// for distributively smoothed equations, stored rows for the boundary band. Entries of r at
+// locations without an equation are zero, so restriction can read r everywhere.
+//
+// Reported norm: the 2-norm of the residual of the symmetric augmented system (5) as written,
+// sqrt(sum r_u^2 + sum r_p^2), momentum rows mu (Lap + grad div) u - mu grad p = -f and pressure
+// rows mu div u + (mu^2/lambda) p = 0. At lambda = 0 the pressure is eliminated exactly (p = 0)
+// and its rows do not count.
+#include "mgelastic/grid/level.hpp"
+
+namespace mgelastic::grid {
+
+// Fills level.r and returns the residual norm defined above.
+template <int Dim, typename Scalar>
+double compute_residual(Level<Dim, Scalar>& level);
+
+// The norm of the current level.r (as compute_residual returns it).
+template <int Dim, typename Scalar>
+double residual_norm(const Level<Dim, Scalar>& level);
+
+}  // namespace mgelastic::grid

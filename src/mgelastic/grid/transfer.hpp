@@ -1,0 +1,22 @@
+#pragma once
+// Inter-grid transfers of Sec. 6, tensor products of the 1D averaging operators
+//   B1 u[x] = (u[x-h/2] + u[x+h/2]) / 2
+//   B2 u[x] = (u[x-h] + 2 u[x] + u[x+h]) / 4
+//   B3 u[x] = (u[x-3h/2] + 3 u[x-h/2] + 3 u[x+h/2] + u[x+3h/2]) / 8
+// per variable: R_i = B2 along e_i, B1 along the others; P_i^T = 2^d (B2 along e_i, B3 along
+// the others); R_p = B1 in every direction, P_p^T = 2^d B1 (piecewise constant).
+// Restriction writes coarse right-hand sides only at coarse interior equations (coarse boundary
+// conditions are homogeneous) and zeroes the coarse unknowns. Prolongation adds the correction
+// to fine interior variables, renormalizing the weights over coarse variables that are defined
+// (interior, Dirichlet = 0, or back-substituted traction values); inactive ones are skipped.
+#include "mgelastic/grid/level.hpp"
+
+namespace mgelastic::grid {
+
+template <int Dim, typename Scalar>
+void restrict_residual(const Level<Dim, Scalar>& fine, Level<Dim, Scalar>& coarse);
+
+template <int Dim, typename Scalar>
+void prolongate_correction(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>& fine);
+
+}  // namespace mgelastic::grid

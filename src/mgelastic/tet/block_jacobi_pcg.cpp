@@ -1,0 +1,146 @@
+#include "mgelastic/tet/block_jacobi_pcg.hpp"
+#include "mgelastic/tet/parallel.hpp"
+
+#include <Eigen/LU>
+#include <cmath>
+#include <string>
+
+#include "mgelastic/core/error.hpp"
+
+namespace mgelastic::tet {
+
+StepSystem::StepSystem(const BlockRowMatrix<double>& stiffness, const Eigen::VectorXd& mass,
+                       double mass_scale, double stiffness_scale,
+                       const std::vector<char>& constrained)
+    : m_stiffness(&stiffness),
+      m_mass(&mass),
+      m_mass_scale(mass_scale),
+      m_stiffness_scale(stiffness_scale),
+      m_constrained(&constrained) {
+  update_preconditioner();
+}
+
+void StepSystem::apply_unconstrained(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  m_stiffness->multiply(x, y);
+  const int n = static_cast<int>(m_mass->size());
+#pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
+  for (int v = 0; v < n; ++v)
+    y.segment<3>(3 * v) =
+        m_stiffness_scale * y.segment<3>(3 * v) + m_mass_scale * (*m_mass)[v] * x.segment<3>(3 * v);
+}
+
+void StepSystem::apply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  // P A P + (I - P) with P the projection onto free vertices.
+  Eigen::VectorXd free_x = x;
+  const int n = static_cast<int>(m_mass->size());
+  for (int v = 0; v < n; ++v)
+    if ((*m_constrained)[v]) free_x.segment<3>(3 * v).setZero();
+  apply_unconstrained(free_x, y);
+  for (int v = 0; v < n; ++v)
+    if ((*m_constrained)[v]) y.segment<3>(3 * v) = x.segment<3>(3 * v);
+}
+
+void StepSystem::eliminate(const Eigen::VectorXd& known, Eigen::VectorXd& b) const {
+  const int n = static_cast<int>(m_mass->size());
+  Eigen::VectorXd known_only = Eigen::VectorXd::Zero(known.size());
+  for (int v = 0; v < n; ++v)
+    if ((*m_constrained)[v]) known_only.segment<3>(3 * v) = known.segment<3>(3 * v);
+  Eigen::VectorXd coupling;
+  apply_unconstrained(known_only, coupling);
+  b -= coupling;
+  for (int v = 0; v < n; ++v)
+    if ((*m_constrained)[v]) b.segment<3>(3 * v) = known.segment<3>(3 * v);
+}
+
+void StepSystem::update_preconditioner() {
+  const int n = static_cast<int>(m_mass->size());
+  m_inverse_diagonal.resize(n);
+#pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
+  for (int v = 0; v < n; ++v) {
+    if ((*m_constrained)[v]) {
+      m_inverse_diagonal[v].setIdentity();
+      continue;
+    }
+    const Eigen::Matrix3d d = m_stiffness_scale * m_stiffness->diagonal_block(v) +
+                              m_mass_scale * (*m_mass)[v] * Eigen::Matrix3d::Identity();
+    // A singular block (a vertex without mass or stiffness) falls back to the identity.
+    Eigen::Matrix3d inverse;
+    bool invertible = false;
+    d.computeInverseWithCheck(inverse, invertible, 1e-300);
+    m_inverse_diagonal[v] =
+        invertible && inverse.allFinite() ? inverse : Eigen::Matrix3d::Identity();
+  }
+}
+
+void StepSystem::precondition(const Eigen::VectorXd& r, Eigen::VectorXd& y) const {
+  const int n = static_cast<int>(m_mass->size());
+  y.resize(r.size());
+#pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
+  for (int v = 0; v < n; ++v) y.segment<3>(3 * v) = m_inverse_diagonal[v] * r.segment<3>(3 * v);
+}
+
+Eigen::SparseMatrix<double> StepSystem::to_sparse() const {
+  const Eigen::SparseMatrix<double> k = m_stiffness->to_sparse();
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(k.nonZeros() + size());
+  const auto constrained = [this](int dof) { return (*m_constrained)[dof / 3] != 0; };
+  for (int col = 0; col < k.outerSize(); ++col)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(k, col); it; ++it)
+      if (!constrained(static_cast<int>(it.row())) && !constrained(col))
+        triplets.emplace_back(static_cast<int>(it.row()), col, m_stiffness_scale * it.value());
+  for (int dof = 0; dof < size(); ++dof)
+    triplets.emplace_back(dof, dof, constrained(dof) ? 1.0 : m_mass_scale * (*m_mass)[dof / 3]);
+  Eigen::SparseMatrix<double> a(size(), size());
+  a.setFromTriplets(triplets.begin(), triplets.end());
+  return a;
+}
+
+namespace {
+
+[[noreturn]] void fail(const std::string& reason, int iteration) {
+  throw Error(reason + " at iteration " + std::to_string(iteration),
+              ErrorContext{std::string(), -1, "PCG"});
+}
+
+}  // namespace
+
+PcgResult solve_pcg(const StepSystem& system, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                    const PcgSettings& settings) {
+  PcgResult result;
+  const double b_norm = b.norm();
+  if (!std::isfinite(b_norm)) fail("non-finite right-hand side", 0);
+  if (x.size() != b.size() || !x.allFinite()) x = Eigen::VectorXd::Zero(b.size());
+  if (b_norm == 0.0) {
+    x.setZero();
+    result.converged = true;
+    return result;
+  }
+  Eigen::VectorXd r, z, p, ap;
+  system.apply(x, ap);
+  r = b - ap;
+  system.precondition(r, z);
+  p = z;
+  double rz = r.dot(z);
+  for (; result.iterations < settings.max_iterations; ++result.iterations) {
+    result.relative_residual = r.norm() / b_norm;
+    if (!std::isfinite(result.relative_residual))
+      fail("non-finite residual (NaN in the system?)", result.iterations);
+    if (result.relative_residual > 1e8) fail("residual diverged", result.iterations);
+    if (result.relative_residual <= settings.tolerance) break;
+    system.apply(p, ap);
+    const double curvature = p.dot(ap);
+    if (!(curvature > 0.0)) fail("non-positive curvature p.Ap (matrix not SPD)", result.iterations);
+    const double alpha = rz / curvature;
+    x += alpha * p;
+    r -= alpha * ap;
+    system.precondition(r, z);
+    const double rz_next = r.dot(z);
+    p = z + (rz_next / rz) * p;
+    rz = rz_next;
+  }
+  result.relative_residual = r.norm() / b_norm;
+  result.converged = result.relative_residual <= settings.tolerance;
+  return result;
+}
+
+}  // namespace mgelastic::tet

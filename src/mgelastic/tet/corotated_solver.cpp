@@ -1,0 +1,246 @@
+#include "mgelastic/tet/corotated_solver.hpp"
+
+#include <Eigen/CholmodSupport>
+#include <cmath>
+#include <string>
+
+#include "mgelastic/core/error.hpp"
+#include "mgelastic/core/timer.hpp"
+
+namespace mgelastic::tet {
+
+struct CorotatedSolver::Cholesky {
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> factorization;
+  bool analyzed = false;
+};
+
+namespace {
+
+[[noreturn]] void fail(const std::string& reason, const std::string& where) {
+  throw Error(reason, ErrorContext{std::string(), -1, where});
+}
+
+void check_settings(const CorotatedSolverSettings& s) {
+  if (!(s.time_step > 0.0) || !std::isfinite(s.time_step))
+    fail("must be positive and finite", "time_step");
+  if (!(s.rayleigh_alpha >= 0.0) || !(s.rayleigh_beta >= 0.0))
+    fail("Rayleigh coefficients must be non-negative", "rayleigh");
+  if (!s.gravity.allFinite()) fail("must be finite", "gravity");
+  if (!(s.pcg.tolerance > 0.0) || s.pcg.max_iterations < 1)
+    fail("tolerance must be positive, max_iterations >= 1", "pcg");
+  if (s.newton.max_iterations < 1 || !(s.newton.max_step > 0.0))
+    fail("max_iterations >= 1 and max_step > 0 required", "newton");
+}
+
+}  // namespace
+
+CorotatedSolver::CorotatedSolver(const geometry::TetMesh& mesh, const ElementMaterials& materials,
+                                 const CorotatedSolverSettings& settings)
+    : m_settings((check_settings(settings), settings)),
+      m_body(mesh, materials),
+      m_rotations(m_body, settings.rotation_method, settings.newton),
+      m_assembler(m_body),
+      m_constrained(m_body.vertex_count(), 0),
+      m_x(m_body.rest_positions()),
+      m_v(Eigen::VectorXd::Zero(m_x.size())),
+      m_a(Eigen::VectorXd::Zero(m_x.size())),
+      m_cholesky(std::make_unique<Cholesky>()) {
+  set_dirichlet({});
+}
+
+CorotatedSolver::~CorotatedSolver() = default;
+
+void CorotatedSolver::set_dirichlet(std::vector<int> vertices, DirichletMotion motion) {
+  // Vertices without elements have no mass and no stiffness: fixing them keeps A regular.
+  std::fill(m_constrained.begin(), m_constrained.end(), 1);
+  const Eigen::MatrixX4i& tets = m_body.tets();
+  for (int e = 0; e < tets.rows(); ++e)
+    for (int a = 0; a < 4; ++a) m_constrained[tets(e, a)] = 0;
+  for (int v : vertices) {
+    if (v < 0 || v >= m_body.vertex_count())
+      fail("vertex " + std::to_string(v) + " out of range", "dirichlet");
+    m_constrained[v] = 1;
+  }
+  m_dirichlet = std::move(vertices);
+  m_motion = std::move(motion);
+}
+
+Eigen::VectorXd CorotatedSolver::prescribed_positions(double time) const {
+  Eigen::VectorXd target = m_x;
+  const Eigen::VectorXd& rest = m_body.rest_positions();
+  for (int v : m_dirichlet) {
+    const Eigen::Vector3d x0 = rest.segment<3>(3 * v);
+    target.segment<3>(3 * v) = m_motion ? m_motion(v, x0, time) : x0;
+    if (!target.segment<3>(3 * v).allFinite())
+      fail("prescribed position is not finite", "dirichlet: vertex " + std::to_string(v));
+  }
+  return target;
+}
+
+Eigen::VectorXd CorotatedSolver::gravity_forces() const {
+  Eigen::VectorXd f(m_x.size());
+  for (int v = 0; v < m_body.vertex_count(); ++v)
+    f.segment<3>(3 * v) = m_body.vertex_mass()[v] * m_settings.gravity;
+  return f;
+}
+
+void CorotatedSolver::update_operator(StepStats& stats) {
+  Timer timer;
+  stats.rotation = m_rotations.update(m_x);
+  stats.rotate_seconds = timer.seconds();
+  timer.restart();
+  m_assembler.assemble(m_rotations);
+  stats.assemble_seconds = timer.seconds();
+}
+
+void CorotatedSolver::solve(double mass_scale, double stiffness_scale, const Eigen::VectorXd& known,
+                            Eigen::VectorXd& b, Eigen::VectorXd& unknown, StepStats& stats) {
+  Timer timer;
+  const StepSystem system(m_assembler.stiffness(), m_body.vertex_mass(), mass_scale,
+                          stiffness_scale, m_constrained);
+  system.eliminate(known, b);
+  for (int v = 0; v < m_body.vertex_count(); ++v)
+    if (m_constrained[v]) unknown.segment<3>(3 * v) = known.segment<3>(3 * v);
+  if (m_settings.linear_solver == LinearSolver::PCG) {
+    stats.solve = solve_pcg(system, b, unknown, m_settings.pcg);
+  } else {
+    const Eigen::SparseMatrix<double> a = system.to_sparse();
+    if (!m_cholesky->analyzed) m_cholesky->factorization.analyzePattern(a);
+    m_cholesky->analyzed = true;
+    m_cholesky->factorization.factorize(a);
+    if (m_cholesky->factorization.info() != Eigen::Success)
+      fail("sparse Cholesky failed (matrix not positive definite?)", "CHOLESKY");
+    unknown = m_cholesky->factorization.solve(b);
+    Eigen::VectorXd ax;
+    system.apply(unknown, ax);
+    stats.solve = {0, (ax - b).norm() / std::max(b.norm(), 1e-300), true};
+  }
+  if (!unknown.allFinite()) fail("linear solve produced non-finite values", "solve");
+  stats.solve_seconds = timer.seconds();
+}
+
+void CorotatedSolver::step_implicit_euler(StepStats& stats) {
+  const double h = m_settings.time_step;
+  Eigen::VectorXd b = m_assembler.elastic_forces(m_rotations, m_x) + gravity_forces();
+  b *= h;
+  for (int v = 0; v < m_body.vertex_count(); ++v)
+    b.segment<3>(3 * v) += m_body.vertex_mass()[v] * m_v.segment<3>(3 * v);
+  const Eigen::VectorXd known = (prescribed_positions(m_time + h) - m_x) / h;
+  solve(1.0 + h * m_settings.rayleigh_alpha, h * h + h * m_settings.rayleigh_beta, known, b, m_v,
+        stats);
+  m_x += h * m_v;
+}
+
+void CorotatedSolver::step_newmark(StepStats& stats) {
+  const double h = m_settings.time_step;
+  const double alpha = m_settings.rayleigh_alpha;
+  const double beta = m_settings.rayleigh_beta;
+  const Eigen::VectorXd& mass = m_body.vertex_mass();
+  // Damping force C v = alpha M v + beta K~ v with the freshly assembled K~.
+  const auto damping = [&](const Eigen::VectorXd& v) {
+    Eigen::VectorXd kv;
+    m_assembler.stiffness().multiply(v, kv);
+    kv *= beta;
+    for (int i = 0; i < m_body.vertex_count(); ++i)
+      kv.segment<3>(3 * i) += alpha * mass[i] * v.segment<3>(3 * i);
+    return kv;
+  };
+  if (!m_have_acceleration) {
+    // Initial acceleration from the equation of motion at t = 0 (lumped M is diagonal).
+    const Eigen::VectorXd f =
+        m_assembler.elastic_forces(m_rotations, m_x) + gravity_forces() - damping(m_v);
+    for (int i = 0; i < m_body.vertex_count(); ++i)
+      m_a.segment<3>(3 * i) = m_constrained[i] ? Eigen::Vector3d::Zero()
+                                               : Eigen::Vector3d(f.segment<3>(3 * i) / mass[i]);
+    m_have_acceleration = true;
+  }
+  const Eigen::VectorXd x_predicted = m_x + h * m_v + 0.25 * h * h * m_a;
+  const Eigen::VectorXd v_predicted = m_v + 0.5 * h * m_a;
+  Eigen::VectorXd b = m_assembler.elastic_forces(m_rotations, x_predicted) + gravity_forces() -
+                      damping(v_predicted);
+  const Eigen::VectorXd known = (prescribed_positions(m_time + h) - x_predicted) * (4.0 / (h * h));
+  solve(1.0 + 0.5 * h * alpha, 0.25 * h * h + 0.5 * h * beta, known, b, m_a, stats);
+  m_x = x_predicted + 0.25 * h * h * m_a;
+  m_v = v_predicted + 0.5 * h * m_a;
+}
+
+const StepStats& CorotatedSolver::step() {
+  Timer total;
+  StepStats stats;
+  update_operator(stats);
+  if (m_settings.integrator == Integrator::IMPLICIT_EULER) {
+    step_implicit_euler(stats);
+  } else {
+    step_newmark(stats);
+  }
+  if (!m_x.allFinite() || !m_v.allFinite())
+    fail("step " + std::to_string(m_steps) + " produced non-finite positions", "step");
+  m_time += m_settings.time_step;
+  ++m_steps;
+  stats.total_seconds = total.seconds();
+  m_stats = stats;
+  return m_stats;
+}
+
+const StepStats& CorotatedSolver::solve_static(int max_iterations, double tolerance) {
+  if (m_dirichlet.empty())
+    fail("needs Dirichlet vertices (a free body has no equilibrium)", "static");
+  Timer total;
+  StepStats stats;
+  const Eigen::VectorXd target = prescribed_positions(m_time);
+  const Eigen::VectorXd& rest = m_body.rest_positions();
+  for (stats.static_iterations = 1; stats.static_iterations <= max_iterations;
+       ++stats.static_iterations) {
+    update_operator(stats);
+    Eigen::VectorXd b = m_assembler.elastic_forces(m_rotations, m_x) + gravity_forces();
+    Eigen::VectorXd dx = Eigen::VectorXd::Zero(m_x.size());
+    solve(0.0, 1.0, target - m_x, b, dx, stats);
+    m_x += dx;
+    const double scale = std::max((m_x - rest).lpNorm<Eigen::Infinity>(), 1e-300);
+    if (dx.lpNorm<Eigen::Infinity>() <= tolerance * scale) break;
+  }
+  m_v.setZero();
+  m_a.setZero();
+  m_have_acceleration = false;
+  stats.total_seconds = total.seconds();
+  m_stats = stats;
+  return m_stats;
+}
+
+Eigen::MatrixX3d CorotatedSolver::positions_matrix() const {
+  Eigen::MatrixX3d p(m_body.vertex_count(), 3);
+  for (int v = 0; v < m_body.vertex_count(); ++v) p.row(v) = m_x.segment<3>(3 * v).transpose();
+  return p;
+}
+
+void CorotatedSolver::set_state(const Eigen::VectorXd& positions,
+                                const Eigen::VectorXd& velocities) {
+  if (positions.size() != m_x.size() || velocities.size() != m_v.size())
+    fail("state vectors need 3 entries per vertex", "state");
+  if (!positions.allFinite() || !velocities.allFinite()) fail("state must be finite", "state");
+  m_x = positions;
+  m_v = velocities;
+  m_have_acceleration = false;
+}
+
+double CorotatedSolver::kinetic_energy() const {
+  double energy = 0.0;
+  for (int v = 0; v < m_body.vertex_count(); ++v)
+    energy += 0.5 * m_body.vertex_mass()[v] * m_v.segment<3>(3 * v).squaredNorm();
+  return energy;
+}
+
+double CorotatedSolver::elastic_energy() const {
+  return m_assembler.elastic_energy(m_rotations, m_x);
+}
+
+double CorotatedSolver::gravity_energy() const {
+  double energy = 0.0;
+  const Eigen::VectorXd& rest = m_body.rest_positions();
+  for (int v = 0; v < m_body.vertex_count(); ++v)
+    energy -= m_body.vertex_mass()[v] *
+              m_settings.gravity.dot(m_x.segment<3>(3 * v) - rest.segment<3>(3 * v));
+  return energy;
+}
+
+}  // namespace mgelastic::tet

@@ -1,0 +1,154 @@
+#include "mgelastic/tet/energy_rotation.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <cmath>
+
+namespace mgelastic::tet {
+
+namespace {
+
+using Vector5d = Eigen::Matrix<double, 5, 1>;
+using Matrix5d = Eigen::Matrix<double, 5, 5>;
+
+Eigen::Vector4d to_vector(const Eigen::Quaterniond& q) {
+  return {q.w(), q.x(), q.y(), q.z()};
+}
+Eigen::Quaterniond to_quaternion(const Eigen::Vector4d& v) {
+  return Eigen::Quaterniond(v[0], v[1], v[2], v[3]);
+}
+
+// Orthonormal basis of the tangent space of the unit sphere at q: q * i, q * j, q * k.
+Eigen::Matrix<double, 4, 3> tangent_basis(const Eigen::Vector4d& q) {
+  Eigen::Matrix<double, 4, 3> u;
+  u << -q[1], -q[2], -q[3],  //
+      q[0], -q[3], q[2],     //
+      q[3], q[0], -q[1],     //
+      -q[2], q[1], q[0];
+  return u;
+}
+
+// Second-order test on the sphere: q is a minimizer iff mu I - N (mu = q^T N q) is positive
+// semidefinite on the tangent space, i.e. q belongs to the largest eigenvalue of N.
+bool is_minimizer(const Eigen::Vector4d& q, const Eigen::Matrix4d& n, double scale) {
+  const Eigen::Matrix<double, 4, 3> u = tangent_basis(q);
+  const Eigen::Matrix3d g = u.transpose() * (q.dot(n * q) * Eigen::Matrix4d::Identity() - n) * u;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
+  eigen.computeDirect(g, Eigen::EigenvaluesOnly);
+  return eigen.eigenvalues().minCoeff() >= -1e-9 * scale;
+}
+
+// The answer of the eigen-decomposition: the top eigenvector of N, or inside a (nearly)
+// degenerate top eigenspace the warm start's projection onto it, so flat or collinear elements
+// do not jump between equally good rotations from step to step.
+Eigen::Vector4d top_eigenvector(const Eigen::Matrix4d& n, const Eigen::Vector4d& warm,
+                                double scale) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eigen(n);
+  const Eigen::Vector4d values = eigen.eigenvalues();  // ascending
+  Eigen::Vector4d projected = Eigen::Vector4d::Zero();
+  for (int k = 3; k >= 0 && values[3] - values[k] <= 1e-10 * scale; --k) {
+    const Eigen::Vector4d v = eigen.eigenvectors().col(k);
+    projected += v.dot(warm) * v;
+  }
+  Eigen::Vector4d q = projected.norm() > 1e-6 ? projected : eigen.eigenvectors().col(3);
+  q.normalize();
+  return q.dot(warm) < 0.0 ? -q : q;
+}
+
+struct NewtonState {
+  Eigen::Vector4d q;
+  double lambda;
+};
+
+Vector5d lagrangian_gradient(const NewtonState& s, const Eigen::Matrix4d& n, double t) {
+  Vector5d g;
+  g.head<4>() = 4.0 * t * s.q.squaredNorm() * s.q - 4.0 * n * s.q + 2.0 * s.lambda * s.q;
+  g[4] = s.q.squaredNorm() - 1.0;
+  return g;
+}
+
+Matrix5d lagrangian_hessian(const NewtonState& s, const Eigen::Matrix4d& n, double t) {
+  Matrix5d h;
+  h.topLeftCorner<4, 4>() =
+      4.0 * t * (s.q.squaredNorm() * Eigen::Matrix4d::Identity() + 2.0 * s.q * s.q.transpose()) -
+      4.0 * n + 2.0 * s.lambda * Eigen::Matrix4d::Identity();
+  h.topRightCorner<4, 1>() = 2.0 * s.q;
+  h.bottomLeftCorner<1, 4>() = 2.0 * s.q.transpose();
+  h(4, 4) = 0.0;
+  return h;
+}
+
+// Runs the Newton iteration; returns false when it cannot be trusted (singular, non-finite,
+// not converged within the cap).
+bool newton(NewtonState& s, const Eigen::Matrix4d& n, double t, double scale,
+            const NewtonSettings& settings, int& iterations) {
+  for (iterations = 0; iterations < settings.max_iterations; ++iterations) {
+    const Vector5d g = lagrangian_gradient(s, n, t);
+    if (!g.allFinite()) return false;
+    if (g.head<4>().norm() <= settings.tolerance * scale) return true;
+    const Eigen::FullPivLU<Matrix5d> lu(lagrangian_hessian(s, n, t));
+    if (!lu.isInvertible()) return false;
+    Vector5d step = -lu.solve(g);
+    if (!step.allFinite()) return false;
+    // Limit the step so a nearly singular KKT matrix cannot throw q across the sphere.
+    const double length = step.head<4>().norm();
+    if (length > settings.max_step) step *= settings.max_step / length;
+    s.q += step.head<4>();
+    s.lambda += step[4];
+    // Renormalize: the returned quaternion is unit by construction, not only at convergence.
+    const double norm = s.q.norm();
+    if (!(norm > 1e-12) || !std::isfinite(norm)) return false;
+    s.q /= norm;
+  }
+  return lagrangian_gradient(s, n, t).head<4>().norm() <= settings.tolerance * scale;
+}
+
+}  // namespace
+
+Eigen::Matrix4d rotation_energy_matrix(const Eigen::Matrix3d& b) {
+  Eigen::Matrix4d n;
+  n(0, 0) = b(0, 0) + b(1, 1) + b(2, 2);
+  n(1, 1) = b(0, 0) - b(1, 1) - b(2, 2);
+  n(2, 2) = -b(0, 0) + b(1, 1) - b(2, 2);
+  n(3, 3) = -b(0, 0) - b(1, 1) + b(2, 2);
+  n(0, 1) = n(1, 0) = b(1, 2) - b(2, 1);
+  n(0, 2) = n(2, 0) = b(2, 0) - b(0, 2);
+  n(0, 3) = n(3, 0) = b(0, 1) - b(1, 0);
+  n(1, 2) = n(2, 1) = b(0, 1) + b(1, 0);
+  n(1, 3) = n(3, 1) = b(0, 2) + b(2, 0);
+  n(2, 3) = n(3, 2) = b(1, 2) + b(2, 1);
+  return n;
+}
+
+double rotation_energy(const Eigen::Vector4d& q, const Eigen::Matrix4d& n, double t,
+                       double rest_trace) {
+  const double q2 = q.squaredNorm();
+  return q2 * q2 * t - 2.0 * q.dot(n * q) + rest_trace;
+}
+
+RotationFit minimize_rotation_energy(const Eigen::Matrix3d& moment, double t, Eigen::Quaterniond& q,
+                                     const NewtonSettings& settings) {
+  const Eigen::Matrix4d n = rotation_energy_matrix(moment);
+  const double scale = 4.0 * (std::abs(t) + n.norm());
+  Eigen::Vector4d warm = to_vector(q);
+  if (!warm.allFinite() || !(warm.norm() > 0.5)) warm = Eigen::Vector4d::UnitX();
+  warm.normalize();
+  RotationFit fit;
+  // An element collapsed to a point carries no rotation information: keep the previous one.
+  if (!(scale > 1e-300) || !std::isfinite(scale)) {
+    q = to_quaternion(warm);
+    fit.fallback = true;
+    return fit;
+  }
+  NewtonState s{warm, 2.0 * (warm.dot(n * warm) - t)};
+  const bool converged = newton(s, n, t, scale, settings, fit.iterations);
+  if (converged && is_minimizer(s.q, n, scale)) {
+    q = to_quaternion(s.q.dot(warm) < 0.0 ? Eigen::Vector4d(-s.q) : s.q);
+    return fit;
+  }
+  fit.fallback = true;
+  q = to_quaternion(top_eigenvector(n, warm, scale));
+  return fit;
+}
+
+}  // namespace mgelastic::tet

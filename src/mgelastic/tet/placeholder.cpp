@@ -1,1 +1,0 @@
-// Placeholder until the tet engine's first files land.

@@ -1,0 +1,85 @@
+#include "mgelastic/tet/rotation_field.hpp"
+#include "mgelastic/tet/parallel.hpp"
+
+#include <string>
+
+#include "mgelastic/core/error.hpp"
+#include "mgelastic/tet/polar_rotation.hpp"
+
+namespace mgelastic::tet {
+
+RotationField::RotationField(const TetBody& body, RotationMethod method, NewtonSettings newton)
+    : m_body(&body), m_method(method), m_newton(newton) {
+  m_volumes.resize(body.element_count());
+  for (int e = 0; e < body.element_count(); ++e) m_volumes[e] = body.volume(e);
+  if (method == RotationMethod::POLAR_SMOOTHED)
+    m_ring = element_one_ring(body.tets(), body.vertex_count());
+  reset();
+}
+
+void RotationField::reset() {
+  m_rotations.assign(m_body->element_count(), Eigen::Matrix3d::Identity());
+  m_quaternions.assign(m_body->element_count(), Eigen::Quaterniond::Identity());
+}
+
+RotationStats RotationField::update(const Eigen::VectorXd& positions) {
+  if (positions.size() != 3 * m_body->vertex_count())
+    throw Error("position vector has the wrong size", ErrorContext{std::string(), -1, "positions"});
+  if (!positions.allFinite()) {
+    for (int e = 0; e < m_body->element_count(); ++e)
+      if (!m_body->corners(e, positions).allFinite())
+        throw Error("non-finite vertex position (simulation diverged?)",
+                    ErrorContext{std::string(), -1, "element " + std::to_string(e)});
+  }
+  RotationStats stats;
+  if (m_method == RotationMethod::ENERGY_MINIMIZATION) {
+    update_energy_minimization(positions, stats);
+  } else {
+    update_polar(positions);
+  }
+  return stats;
+}
+
+void RotationField::update_energy_minimization(const Eigen::VectorXd& positions,
+                                               RotationStats& stats) {
+  const int count = m_body->element_count();
+  long total_iterations = 0;
+  int max_iterations = 0;
+  int fallbacks = 0;
+#pragma omp parallel for schedule(static) if (count >= kMinParallelElements) reduction(+ : total_iterations, fallbacks) \
+    reduction(max : max_iterations)
+  for (int e = 0; e < count; ++e) {
+    const Eigen::Matrix3d f =
+        deformation_gradient(m_body->corners(e, positions), m_body->rest_edge_inverse(e));
+    const Eigen::Matrix3d b = f * m_body->second_moment(e);
+    // The paper's q rotates deformed into rest (Q^T): warm-start from the conjugate of Q.
+    Eigen::Quaterniond q = m_quaternions[e].conjugate();
+    const RotationFit fit = minimize_rotation_energy(b, (b * f.transpose()).trace(), q, m_newton);
+    m_quaternions[e] = q.conjugate();
+    m_rotations[e] = m_quaternions[e].toRotationMatrix();
+    total_iterations += fit.iterations;
+    max_iterations = std::max(max_iterations, fit.iterations);
+    fallbacks += fit.fallback ? 1 : 0;
+  }
+  stats.max_newton_iterations = max_iterations;
+  stats.mean_newton_iterations = count > 0 ? static_cast<double>(total_iterations) / count : 0.0;
+  stats.fallbacks = fallbacks;
+}
+
+void RotationField::update_polar(const Eigen::VectorXd& positions) {
+  const int count = m_body->element_count();
+  const bool smooth = m_method == RotationMethod::POLAR_SMOOTHED;
+  std::vector<Eigen::Quaterniond>& raw = smooth ? m_scratch : m_quaternions;
+  raw.resize(count);
+#pragma omp parallel for schedule(static) if (count >= kMinParallelElements)
+  for (int e = 0; e < count; ++e) {
+    const Eigen::Matrix3d r = polar_rotation(
+        deformation_gradient(m_body->corners(e, positions), m_body->rest_edge_inverse(e)));
+    raw[e] = Eigen::Quaterniond(r).normalized();
+  }
+  if (smooth) smooth_rotations(m_ring, m_volumes, m_scratch, m_quaternions);
+#pragma omp parallel for schedule(static) if (count >= kMinParallelElements)
+  for (int e = 0; e < count; ++e) m_rotations[e] = m_quaternions[e].toRotationMatrix();
+}
+
+}  // namespace mgelastic::tet

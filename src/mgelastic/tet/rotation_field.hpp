@@ -1,0 +1,58 @@
+#pragma once
+// Per-element rotations Q_e (rest -> deformed frame) of the corotated formulation, extracted from
+// the current positions by one of three methods (the paper's Sec. 3 and its Sec. 5 comparisons):
+//   ENERGY_MINIMIZATION  Newton on the unit quaternion with Lagrange multiplier (energy_rotation),
+//                        warm-started from the previous update;
+//   POLAR                polar decomposition of F (polar_rotation);
+//   POLAR_SMOOTHED       POLAR followed by one volume-weighted quaternion average over the
+//                        1-ring of elements (rotation_smoothing).
+// Elements are independent, so the update is one parallel loop over elements.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "mgelastic/tet/energy_rotation.hpp"
+#include "mgelastic/tet/rotation_smoothing.hpp"
+#include "mgelastic/tet/tet_body.hpp"
+
+namespace mgelastic::tet {
+
+enum class RotationMethod { ENERGY_MINIMIZATION, POLAR, POLAR_SMOOTHED };
+
+struct RotationStats {
+  int max_newton_iterations = 0;
+  double mean_newton_iterations = 0.0;
+  int fallbacks = 0;  // elements where the eigen-decomposition answered instead of Newton
+};
+
+class RotationField {
+ public:
+  RotationField(const TetBody& body, RotationMethod method, NewtonSettings newton = {});
+
+  // Recomputes all rotations from a 3N position vector. Throws Error naming the first element
+  // with non-finite corner positions.
+  RotationStats update(const Eigen::VectorXd& positions);
+  // Back to identity rotations (and cold Newton starts).
+  void reset();
+
+  RotationMethod method() const { return m_method; }
+  int size() const { return static_cast<int>(m_rotations.size()); }
+  const Eigen::Matrix3d& rotation(int e) const { return m_rotations[e]; }
+  // Unit quaternions of the rotations Q_e.
+  const std::vector<Eigen::Quaterniond>& quaternions() const { return m_quaternions; }
+
+ private:
+  void update_energy_minimization(const Eigen::VectorXd& positions, RotationStats& stats);
+  void update_polar(const Eigen::VectorXd& positions);
+
+  const TetBody* m_body;
+  RotationMethod m_method;
+  NewtonSettings m_newton;
+  std::vector<Eigen::Matrix3d> m_rotations;
+  std::vector<Eigen::Quaterniond> m_quaternions;
+  std::vector<Eigen::Quaterniond> m_scratch;
+  std::vector<double> m_volumes;
+  ElementOneRing m_ring;  // built only for POLAR_SMOOTHED
+};
+
+}  // namespace mgelastic::tet
