@@ -75,11 +75,16 @@ nlohmann::json cg(const BoxBenchOptions& o) {
   const Eigen::VectorXd rhs = system.right_hand_side(mg.finest());
   Eigen::VectorXd u = Eigen::VectorXd::Zero(rhs.size());
   const auto report = grid::conjugate_gradient(a, rhs, u, o.tolerance, 100000);
-  return {{"benchmark", "cg"},       {"dim", Dim},
-          {"n", o.n},                {"poisson", o.poisson},
-          {"bc", o.bc},              {"unknowns", rhs.size()},
-          {"tolerance", o.tolerance}, {"iterations", report.iterations},
-          {"converged", report.converged}, {"seconds", report.seconds},
+  return {{"benchmark", "cg"},
+          {"dim", Dim},
+          {"n", o.n},
+          {"poisson", o.poisson},
+          {"bc", o.bc},
+          {"unknowns", rhs.size()},
+          {"tolerance", o.tolerance},
+          {"iterations", report.iterations},
+          {"converged", report.converged},
+          {"seconds", report.seconds},
           {"residuals", report.residuals}};
 }
 
@@ -106,8 +111,8 @@ void print_cg(const nlohmann::json& r) {
   std::printf("CG on the non-augmented system, %dD box N=%d, nu=%.4g, bc=%s, %zu unknowns\n",
               r["dim"].get<int>(), r["n"].get<int>(), r["poisson"].get<double>(),
               r["bc"].get<std::string>().c_str(), r["unknowns"].get<std::size_t>());
-  std::printf("%d iterations to relative residual %.1e (%s), %.3f s\n",
-              r["iterations"].get<int>(), r["tolerance"].get<double>(),
+  std::printf("%d iterations to relative residual %.1e (%s), %.3f s\n", r["iterations"].get<int>(),
+              r["tolerance"].get<double>(),
               r["converged"].get<bool>() ? "converged" : "NOT converged",
               r["seconds"].get<double>());
 }
@@ -129,7 +134,8 @@ nlohmann::json run_convergence(const BoxBenchOptions& o) {
     throw Error("must be 'float' or 'double' (got '" + o.precision + "')",
                 {.pointer = "--precision"});
   if (o.cycles < 1)
-    throw Error("must be at least 1 (got " + std::to_string(o.cycles) + ")", {.pointer = "--cycles"});
+    throw Error("must be at least 1 (got " + std::to_string(o.cycles) + ")",
+                {.pointer = "--cycles"});
   const bool single = o.precision == "float";
   if (o.dim == 2) return single ? convergence<2, float>(o) : convergence<2, double>(o);
   return single ? convergence<3, float>(o) : convergence<3, double>(o);

@@ -110,8 +110,8 @@ void back_substitute_traction(Level<Dim, Scalar>& level) {
   }
 }
 
-#define MGELASTIC_INSTANTIATE(D, S)                                                          \
-  template void update_band_pressures<D, S>(Level<D, S>&);                                   \
+#define MGELASTIC_INSTANTIATE(D, S)                                                            \
+  template void update_band_pressures<D, S>(Level<D, S>&);                                     \
   template void band_gauss_seidel<D, S>(Level<D, S>&, int, const std::vector<std::uint32_t>*); \
   template void back_substitute_traction<D, S>(Level<D, S>&);
 MGELASTIC_INSTANTIATE(2, float)

@@ -23,9 +23,10 @@ CoarseSolver<Dim, Scalar>::CoarseSolver(const Level<Dim, Scalar>& level)
     throw Error("the coarsest grid level has no interior variable", {.pointer = "grid"});
   m_impl->cholesky.compute(m_impl->system.matrix);
   if (m_impl->cholesky.info() != Eigen::Success)
-    throw Error("the coarsest-level system is singular (is every part of the body held by a "
-                "Dirichlet region?)",
-                {.pointer = "grid"});
+    throw Error(
+        "the coarsest-level system is singular (is every part of the body held by a "
+        "Dirichlet region?)",
+        {.pointer = "grid"});
 }
 
 template <int Dim, typename Scalar>

@@ -13,7 +13,8 @@ double convergence_rate(const std::vector<double>& residuals, double floor, int 
   if (ratios.empty()) return 0.0;
   const std::size_t count = std::min<std::size_t>(ratios.size(), last);
   double log_sum = 0.0;
-  for (std::size_t k = ratios.size() - count; k < ratios.size(); ++k) log_sum += std::log(ratios[k]);
+  for (std::size_t k = ratios.size() - count; k < ratios.size(); ++k)
+    log_sum += std::log(ratios[k]);
   return std::exp(log_sum / static_cast<double>(count));
 }
 

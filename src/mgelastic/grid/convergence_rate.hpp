@@ -6,7 +6,6 @@
 
 namespace mgelastic::grid {
 
-double convergence_rate(const std::vector<double>& residuals, double floor = 1e-11,
-                        int last = 5);
+double convergence_rate(const std::vector<double>& residuals, double floor = 1e-11, int last = 5);
 
 }  // namespace mgelastic::grid

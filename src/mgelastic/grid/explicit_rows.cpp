@@ -46,8 +46,8 @@ void RowBuilder<Dim>::add_normal_stress(int i, std::ptrdiff_t cell, double weigh
   const bool upper_exterior = exterior(cell + si);
   if (lower_exterior || upper_exterior) {
     // Boundary stress: the traction condition on the exterior face fixes its value.
-    Vec<Dim> where = lower_exterior ? m_lattice.face_center(i, cell)
-                                    : m_lattice.face_center(i, cell + si);
+    Vec<Dim> where =
+        lower_exterior ? m_lattice.face_center(i, cell) : m_lattice.face_center(i, cell + si);
     if (lower_exterior && upper_exterior) where = m_lattice.cell_center(cell);
     row.constant += weight * sigma(i, i, where);
     return;
@@ -101,8 +101,8 @@ ExplicitRow RowBuilder<Dim>::pressure(std::ptrdiff_t k) const {
     const bool upper_exterior = exterior(k + si);
     if (lower_exterior || upper_exterior) {
       // Boundary gradient: mu F_ii = (sigma + mu p) / 2 from the traction condition.
-      Vec<Dim> where = lower_exterior ? m_lattice.face_center(i, k)
-                                      : m_lattice.face_center(i, k + si);
+      Vec<Dim> where =
+          lower_exterior ? m_lattice.face_center(i, k) : m_lattice.face_center(i, k + si);
       if (lower_exterior && upper_exterior) where = m_lattice.cell_center(k);
       row.constant += 0.5 * sigma(i, i, where);
       row.pressure_extra += 0.5 * m_mu;

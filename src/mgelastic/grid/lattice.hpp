@@ -25,8 +25,8 @@ enum class CellType : std::uint8_t { EXTERIOR = 0, INTERIOR = 1, DIRICHLET = 2 }
 
 template <int Dim>
 struct Lattice {
-  IVec<Dim> cells;                   // n_d cells along each axis
-  double h = 1.0;                    // cubic cell size
+  IVec<Dim> cells;                     // n_d cells along each axis
+  double h = 1.0;                      // cubic cell size
   Vec<Dim> origin = Vec<Dim>::Zero();  // world position of the min corner of cell (0, ..., 0)
 
   Lattice() = default;

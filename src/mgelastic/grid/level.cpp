@@ -184,8 +184,8 @@ void classify_relaxation(Level<Dim, Scalar>& level, const std::vector<CellType>*
   if (coarse_cells) {
     IVec<Dim> coarse_n;
     for (int a = 0; a < Dim; ++a) coarse_n[a] = (level.lattice.cells[a] + 1) / 2;
-    relocation.emplace(RelocationTest<Dim>{level.lattice, Lattice<Dim>(coarse_n, 2 * level.lattice.h),
-                                           *coarse_cells});
+    relocation.emplace(RelocationTest<Dim>{
+        level.lattice, Lattice<Dim>(coarse_n, 2 * level.lattice.h), *coarse_cells});
   }
   // Eliminated pressures (relaxed exactly, Schur pivots in the band): cells with an exterior
   // neighbor (traction-modified pressure rows) and cells whose coarse parent is not interior
@@ -193,9 +193,8 @@ void classify_relaxation(Level<Dim, Scalar>& level, const std::vector<CellType>*
   for (std::ptrdiff_t k = 0; k < n; ++k) {
     if (level.kind[Dim][k] != VarKind::INTERIOR) continue;
     const bool relocated = relocation && !relocation->coarse_parent_interior(k);
-    level.relaxation[Dim][k] = classifier.distributive_cell(k) && !relocated
-                                   ? Relaxation::DISTRIBUTIVE
-                                   : Relaxation::BAND;
+    level.relaxation[Dim][k] =
+        classifier.distributive_cell(k) && !relocated ? Relaxation::DISTRIBUTIVE : Relaxation::BAND;
   }
   // Band faces: non-uniform footprint, next to an eliminated pressure (a psi step there would
   // be undone by the exact pressure update and over-relax u), or in the Fig. 8 sets.
@@ -249,7 +248,8 @@ void build_band_rows(Level<Dim, Scalar>& level, const RowBuilder<Dim>& builder,
         // Adjacent pressures relaxed distributively stay fixed during band sweeps (Sec. 5.3:
         // interior variables not being smoothed act as Dirichlet values); eliminated band
         // pressures follow u exactly, which gives the Schur-complement pivot.
-        if (t.variable / n == static_cast<std::uint32_t>(Dim) && band_p_index[t.variable % n] >= 0) {
+        if (t.variable / n == static_cast<std::uint32_t>(Dim) &&
+            band_p_index[t.variable % n] >= 0) {
           const double inverse = level.band_p_inverse[band_p_index[t.variable % n]];
           schur -= t.coefficient * t.coefficient * inverse;
           coupled[m] = t.variable;
@@ -340,17 +340,15 @@ void add_shear_rule(Level<Dim, Scalar>& level, const BoundaryStress<Dim>& sigma,
   const std::ptrdiff_t si = lat.stride(i);
   const double h = lat.h, mu = level.mu;
   ShearTractionRule<Scalar> rule{level.global(i, g), {}};
-  auto known = [&](int axis, std::ptrdiff_t k) {
-    return known_after_normal_pass(level, axis, k);
-  };
+  auto known = [&](int axis, std::ptrdiff_t k) { return known_after_normal_pass(level, axis, k); };
   auto stress = [&](int j, std::ptrdiff_t edge) {
     return sigma ? sigma(i, j, lat.edge_center(i, j, edge)) : 0.0;
   };
   for (int j = 0; j < Dim; ++j) {
     if (j == i) continue;
     const std::ptrdiff_t sj = lat.stride(j);
-    if (s[j] >= 1 && s[i] >= 1 && known(i, g - sj) &&
-        level.kind[i][g - sj] != VarKind::TRACTION && known(j, g) && known(j, g - si)) {
+    if (s[j] >= 1 && s[i] >= 1 && known(i, g - sj) && level.kind[i][g - sj] != VarKind::TRACTION &&
+        known(j, g) && known(j, g - si)) {
       rule.candidates.push_back({level.global(i, g - sj), level.global(j, g),
                                  level.global(j, g - si), Scalar(-1),
                                  static_cast<Scalar>(h * stress(j, g) / mu)});
@@ -370,9 +368,12 @@ void add_thin_rule(Level<Dim, Scalar>& level, const BoundaryStress<Dim>& sigma, 
                    std::ptrdiff_t cell) {
   const auto& lat = level.lattice;
   const std::ptrdiff_t si = lat.stride(i);
-  ThinTractionRule<Scalar> rule{level.global(i, cell), level.global(i, cell + si),
-                                level.global(Dim, cell), {},
-                                static_cast<Scalar>(sigma ? sigma(i, i, lat.cell_center(cell)) : 0)};
+  ThinTractionRule<Scalar> rule{
+      level.global(i, cell),
+      level.global(i, cell + si),
+      level.global(Dim, cell),
+      {},
+      static_cast<Scalar>(sigma ? sigma(i, i, lat.cell_center(cell)) : 0)};
   for (int j = 0; j < Dim; ++j) {
     if (j == i) continue;
     for (std::ptrdiff_t nb : {cell - lat.stride(j), cell + lat.stride(j)}) {
@@ -468,12 +469,12 @@ void set_dirichlet_values(Level<Dim, Scalar>& level,
   }
 }
 
-#define MGELASTIC_INSTANTIATE(D, S)                                                       \
-  template struct Level<D, S>;                                                            \
-  template Level<D, S> build_level<D, S>(const Lattice<D>&, std::vector<CellType>,        \
-                                         const Material&, const BoundaryStress<D>&,       \
-                                         const std::vector<CellType>*);                   \
-  template void set_dirichlet_values<D, S>(Level<D, S>&,                                  \
+#define MGELASTIC_INSTANTIATE(D, S)                                                 \
+  template struct Level<D, S>;                                                      \
+  template Level<D, S> build_level<D, S>(const Lattice<D>&, std::vector<CellType>,  \
+                                         const Material&, const BoundaryStress<D>&, \
+                                         const std::vector<CellType>*);             \
+  template void set_dirichlet_values<D, S>(Level<D, S>&,                            \
                                            const std::function<Vec<D>(const Vec<D>&)>&);
 MGELASTIC_INSTANTIATE(2, float)
 MGELASTIC_INSTANTIATE(2, double)

@@ -110,9 +110,7 @@ struct Level {
   std::uint32_t global(int field, std::ptrdiff_t k) const {
     return static_cast<std::uint32_t>(field * static_cast<std::ptrdiff_t>(size()) + k);
   }
-  Scalar& at(std::uint32_t global_index) {
-    return x[global_index / size()][global_index % size()];
-  }
+  Scalar& at(std::uint32_t global_index) { return x[global_index / size()][global_index % size()]; }
   Scalar at(std::uint32_t global_index) const {
     return x[global_index / size()][global_index % size()];
   }

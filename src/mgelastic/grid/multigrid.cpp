@@ -1,7 +1,9 @@
 #include "mgelastic/grid/multigrid.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <type_traits>
 
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/timer.hpp"
@@ -63,29 +65,45 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
     cells.push_back(coarsen_cells(lattices.back(), cells.back()));
     lattices.push_back(coarsen(lattices.back()));
   }
+  constexpr bool mixed = !std::is_same_v<Scalar, double>;
   for (std::size_t l = 0; l < lattices.size(); ++l) {
-    const bool finest = l == 0;
+    const bool finest = l == 0 && !mixed;
     const bool coarsest = l + 1 == lattices.size();
-    m_levels.push_back(build_level<Dim, Scalar>(
-        lattices[l], cells[l], problem.material,
-        finest ? problem.boundary_stress : BoundaryStress<Dim>{},
-        coarsest ? nullptr : &cells[l + 1]));
+    m_levels.push_back(
+        build_level<Dim, Scalar>(lattices[l], cells[l], problem.material,
+                                 finest ? problem.boundary_stress : BoundaryStress<Dim>{},
+                                 coarsest ? nullptr : &cells[l + 1]));
   }
   m_coarse = std::make_unique<CoarseSolver<Dim, Scalar>>(m_levels.back());
-  set_dirichlet_values(m_levels.front(), problem.dirichlet_displacement);
-  set_right_hand_side(problem);
-  back_substitute_traction(m_levels.front());
+  if constexpr (mixed) {
+    m_solution = std::make_unique<Level<Dim, double>>(
+        build_level<Dim, double>(lattices[0], cells[0], problem.material, problem.boundary_stress,
+                                 lattices.size() > 1 ? &cells[1] : nullptr));
+    set_dirichlet_values(*m_solution, problem.dirichlet_displacement);
+    set_right_hand_side(problem, *m_solution);
+    back_substitute_traction(*m_solution);
+  } else {
+    set_dirichlet_values(m_levels.front(), problem.dirichlet_displacement);
+    set_right_hand_side(problem, m_levels.front());
+    back_substitute_traction(m_levels.front());
+  }
 }
 
 template <int Dim, typename Scalar>
-void Multigrid<Dim, Scalar>::set_right_hand_side(const ElasticityProblem<Dim>& problem) {
-  Level<Dim, Scalar>& fine = m_levels.front();
+double Multigrid<Dim, Scalar>::solution(int field, std::ptrdiff_t k) const {
+  return m_solution ? m_solution->x[field][k] : static_cast<double>(m_levels.front().x[field][k]);
+}
+
+template <int Dim, typename Scalar>
+template <typename T>
+void Multigrid<Dim, Scalar>::set_right_hand_side(const ElasticityProblem<Dim>& problem,
+                                                 Level<Dim, T>& fine) {
   if (!problem.body_force) return;
   // L u = div P = -f: the right-hand side of the momentum rows is minus the body force.
   for (int i = 0; i < Dim; ++i) {
     for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(fine.size()); ++k) {
       if (fine.kind[i][k] == VarKind::INTERIOR)
-        fine.b[i][k] = static_cast<Scalar>(-problem.body_force(fine.lattice.face_center(i, k))[i]);
+        fine.b[i][k] = static_cast<T>(-problem.body_force(fine.lattice.face_center(i, k))[i]);
     }
   }
 }
@@ -109,17 +127,46 @@ void Multigrid<Dim, Scalar>::smooth(int l) {
 
 template <int Dim, typename Scalar>
 double Multigrid<Dim, Scalar>::residual() {
-  return compute_residual(m_levels.front());
+  return m_solution ? compute_residual(*m_solution) : compute_residual(m_levels.front());
 }
 
 template <int Dim, typename Scalar>
 double Multigrid<Dim, Scalar>::vcycle() {
+  if (!m_solution) {
+    cycle_correction();
+    Timer timer;
+    const double norm = compute_residual(m_levels.front());
+    m_phases.other += timer.seconds();
+    return norm;
+  }
+  // Mixed precision: the float hierarchy solves L e = r for the double residual r.
+  Timer timer;
+  Level<Dim, Scalar>& fine = m_levels.front();
+  compute_residual(*m_solution);
+  for (int f = 0; f <= Dim; ++f) {
+    std::transform(m_solution->r[f].begin(), m_solution->r[f].end(), fine.b[f].begin(),
+                   [](double v) { return static_cast<Scalar>(v); });
+    std::fill(fine.x[f].begin(), fine.x[f].end(), Scalar(0));
+  }
+  m_phases.other += timer.seconds();
+  cycle_correction();
+  timer.restart();
+  for (int f = 0; f <= Dim; ++f)
+    for (std::size_t k = 0; k < fine.size(); ++k)
+      if (fine.kind[f][k] == VarKind::INTERIOR) m_solution->x[f][k] += fine.x[f][k];
+  back_substitute_traction(*m_solution);
+  const double norm = compute_residual(*m_solution);
+  m_phases.other += timer.seconds();
+  return norm;
+}
+
+template <int Dim, typename Scalar>
+void Multigrid<Dim, Scalar>::cycle_correction() {
   const int coarsest = levels() - 1;
   for (int l = 0; l < coarsest; ++l) {
     smooth(l);
     Timer timer;
-    band_gauss_seidel(m_levels[l], m_options.relocation_sweeps,
-                      &m_levels[l].pre_restriction_rows);
+    band_gauss_seidel(m_levels[l], m_options.relocation_sweeps, &m_levels[l].pre_restriction_rows);
     m_phases.boundary_smoothing += timer.seconds();
     timer.restart();
     compute_residual(m_levels[l]);
@@ -141,10 +188,6 @@ double Multigrid<Dim, Scalar>::vcycle() {
     m_phases.boundary_smoothing += timer.seconds();
     smooth(l);
   }
-  timer.restart();
-  const double norm = compute_residual(m_levels.front());
-  m_phases.other += timer.seconds();
-  return norm;
 }
 
 template <int Dim, typename Scalar>
@@ -152,6 +195,9 @@ SolveReport Multigrid<Dim, Scalar>::solve(double relative_tolerance, int max_cyc
   SolveReport report;
   Timer timer;
   report.residuals.push_back(residual());
+  if (!std::isfinite(report.residuals.front()))
+    throw Error("the initial residual is not finite (NaN or Inf in the loads or boundary values)",
+                {.pointer = "loads"});
   const double target = relative_tolerance * report.residuals.front();
   while (report.cycles() < max_cycles && report.residuals.back() > target) {
     const double norm = vcycle();

@@ -62,15 +62,24 @@ class Multigrid {
   Level<Dim, Scalar>& level(int l) { return m_levels[l]; }
   const Level<Dim, Scalar>& level(int l) const { return m_levels[l]; }
   const Level<Dim, Scalar>& finest() const { return m_levels.front(); }
+  // The current solution at a variable of the finest level (double in every precision).
+  double solution(int field, std::ptrdiff_t k) const;
   std::size_t unknowns() const { return m_levels.front().interior_unknowns(); }
   int boundary_sweeps() const { return m_boundary_sweeps; }
   const PhaseSeconds& phase_seconds() const { return m_phases; }
 
  private:
   void smooth(int l);
-  void set_right_hand_side(const ElasticityProblem<Dim>& problem);
+  void cycle_correction();
+  template <typename T>
+  void set_right_hand_side(const ElasticityProblem<Dim>& problem, Level<Dim, T>& level);
 
   std::vector<Level<Dim, Scalar>> m_levels;
+  // Single precision runs as mixed-precision iterative refinement: the solution and its
+  // residual live on a double copy of the finest level, and each float V-cycle solves for the
+  // correction (homogeneous boundary conditions), so float V-cycles still reach residuals far
+  // below float round-off of the displacements. Null in double precision.
+  std::unique_ptr<Level<Dim, double>> m_solution;
   std::unique_ptr<CoarseSolver<Dim, Scalar>> m_coarse;
   MultigridOptions m_options;
   int m_boundary_sweeps = 2;

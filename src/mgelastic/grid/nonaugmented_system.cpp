@@ -66,8 +66,7 @@ NonAugmentedSystem<Dim> assemble_nonaugmented(const Level<Dim, Scalar>& level,
   system.coupling.resize(nu, np);
   system.coupling.setFromTriplets(g.begin(), g.end());
   const Eigen::SparseMatrix<double> schur_part =
-      system.coupling * system.inverse_pressure_diagonal.asDiagonal() *
-      system.coupling.transpose();
+      system.coupling * system.inverse_pressure_diagonal.asDiagonal() * system.coupling.transpose();
   system.matrix = -(l_phi - schur_part);
   system.matrix.makeCompressed();
   return system;
@@ -97,15 +96,15 @@ void NonAugmentedSystem<Dim>::scatter(const Eigen::VectorXd& u, Level<Dim, Scala
   Eigen::VectorXd bp(p_variables.size());
   for (std::size_t i = 0; i < p_variables.size(); ++i)
     bp[i] = level.b[Dim][p_variables[i] % level.size()];
-  const Eigen::VectorXd p = inverse_pressure_diagonal.cwiseProduct(
-      bp - p_constant - coupling.transpose() * u);
+  const Eigen::VectorXd p =
+      inverse_pressure_diagonal.cwiseProduct(bp - p_constant - coupling.transpose() * u);
   for (std::size_t i = 0; i < p_variables.size(); ++i)
     level.at(p_variables[i]) = static_cast<Scalar>(p[i]);
 }
 
-#define MGELASTIC_INSTANTIATE(D, S)                                                            \
-  template NonAugmentedSystem<D> assemble_nonaugmented<D, S>(const Level<D, S>&,               \
-                                                             const BoundaryStress<D>&);        \
+#define MGELASTIC_INSTANTIATE(D, S)                                                             \
+  template NonAugmentedSystem<D> assemble_nonaugmented<D, S>(const Level<D, S>&,                \
+                                                             const BoundaryStress<D>&);         \
   template Eigen::VectorXd NonAugmentedSystem<D>::right_hand_side<S>(const Level<D, S>&) const; \
   template void NonAugmentedSystem<D>::scatter<S>(const Eigen::VectorXd&, Level<D, S>&) const;
 MGELASTIC_INSTANTIATE(2, float)

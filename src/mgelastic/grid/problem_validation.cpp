@@ -77,7 +77,8 @@ void validate_lattice(const ElasticityProblem<Dim>& problem) {
                 {.pointer = "grid.cells"});
   for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(lat.size()); ++k) {
     if (!lat.is_real(lat.coords(k)) && problem.cells[k] != CellType::EXTERIOR)
-      throw Error("the ghost ring around the lattice must stay exterior", {.pointer = "grid.cells"});
+      throw Error("the ghost ring around the lattice must stay exterior",
+                  {.pointer = "grid.cells"});
   }
 }
 

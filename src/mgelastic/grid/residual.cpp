@@ -61,8 +61,8 @@ void band_residual(Level<Dim, Scalar>& level) {
       sum += p_rows.value[e] * level.at(p_rows.column[e]);
     const std::uint32_t t = p_rows.target[m];
     const Scalar p = level.at(t);
-    level.r[Dim][t % n] = level.b[Dim][t % n] - p_rows.constant[m] - sum -
-                          (d0 + level.band_p_extra[m]) * p;
+    level.r[Dim][t % n] =
+        level.b[Dim][t % n] - p_rows.constant[m] - sum - (d0 + level.band_p_extra[m]) * p;
   }
 }
 
@@ -95,8 +95,8 @@ double residual_norm(const Level<Dim, Scalar>& level) {
   return std::sqrt(sum);
 }
 
-#define MGELASTIC_INSTANTIATE(D, S)                                    \
-  template double compute_residual<D, S>(Level<D, S>&);                \
+#define MGELASTIC_INSTANTIATE(D, S)                     \
+  template double compute_residual<D, S>(Level<D, S>&); \
   template double residual_norm<D, S>(const Level<D, S>&);
 MGELASTIC_INSTANTIATE(2, float)
 MGELASTIC_INSTANTIATE(2, double)

@@ -42,8 +42,7 @@ inline Scalar momentum_row(const std::array<const Scalar*, Dim>& u, const Scalar
 // Divergence of u at cell k (one-cell central differences).
 template <int Dim, typename Scalar>
 inline Scalar divergence(const std::array<const Scalar*, Dim>& u,
-                         const std::array<std::ptrdiff_t, Dim>& s, std::ptrdiff_t k,
-                         Scalar inv_h) {
+                         const std::array<std::ptrdiff_t, Dim>& s, std::ptrdiff_t k, Scalar inv_h) {
   Scalar div = 0;
   for (int i = 0; i < Dim; ++i) div += u[i][k + s[i]] - u[i][k];
   return div * inv_h;

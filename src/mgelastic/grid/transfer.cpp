@@ -154,8 +154,8 @@ void prolongate_correction(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>&
   }
 }
 
-#define MGELASTIC_INSTANTIATE(D, S)                                                    \
-  template void restrict_residual<D, S>(const Level<D, S>&, Level<D, S>&);             \
+#define MGELASTIC_INSTANTIATE(D, S)                                        \
+  template void restrict_residual<D, S>(const Level<D, S>&, Level<D, S>&); \
   template void prolongate_correction<D, S>(const Level<D, S>&, Level<D, S>&);
 MGELASTIC_INSTANTIATE(2, float)
 MGELASTIC_INSTANTIATE(2, double)
