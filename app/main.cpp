@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "bench_command.hpp"
+#include "demo_command.hpp"
 #include "mgelastic/core/error.hpp"
 
 int main(int argc, char** argv) {
@@ -12,6 +13,7 @@ int main(int argc, char** argv) {
     std::cout << "mgelastic 0.1.0\n";
   });
   mgelastic::app::register_bench_commands(app);
+  mgelastic::app::register_demo_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
