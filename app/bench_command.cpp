@@ -8,6 +8,7 @@
 #include "mgelastic/grid/box_problem.hpp"
 #include "mgelastic/grid/cg_baseline.hpp"
 #include "mgelastic/grid/convergence_rate.hpp"
+#include "mgelastic/grid/disc_study.hpp"
 #include "mgelastic/grid/multigrid.hpp"
 #include "mgelastic/grid/nonaugmented_system.hpp"
 
@@ -155,6 +156,32 @@ nlohmann::json run_cg(const BoxBenchOptions& o) {
   return o.dim == 2 ? cg<2>(o) : cg<3>(o);
 }
 
+void run_disc_accuracy(bool json) {
+  nlohmann::json records = nlohmann::json::array();
+  for (double nu : {0.2, 0.49}) {
+    const grid::DiscStudy study = grid::run_disc_study(nu, {16, 32, 64, 128, 256, 512});
+    nlohmann::json rows = nlohmann::json::array();
+    if (!json)
+      std::printf("nu = %.2f\n%8s %12s %10s %8s %8s\n", nu, "cells", "max error", "unknowns",
+                  "cycles", "rate");
+    for (const auto& r : study.rows) {
+      rows.push_back({{"cells", r.cells},
+                      {"max_error", r.max_error},
+                      {"unknowns", r.unknowns},
+                      {"cycles", r.cycles},
+                      {"rate", r.rate}});
+      if (!json)
+        std::printf("%8d %12.4e %10zu %8d %8.3f\n", r.cells, r.max_error, r.unknowns, r.cycles,
+                    r.rate);
+    }
+    if (!json) std::printf("observed order (two finest): %.3f\n\n", study.order);
+    records.push_back({{"poisson", nu}, {"rows", rows}, {"order", study.order}});
+  }
+  if (json)
+    std::cout << nlohmann::json{{"benchmark", "disc-accuracy"}, {"studies", records}}.dump(2)
+              << "\n";
+}
+
 void register_bench_commands(CLI::App& app) {
   CLI::App* bench = app.add_subcommand("bench", "Solver benchmarks");
   bench->require_subcommand(1);
@@ -175,6 +202,11 @@ void register_bench_commands(CLI::App& app) {
       print_convergence(result);
     }
   });
+  static bool disc_json = false;
+  CLI::App* disc = bench->add_subcommand(
+      "disc-accuracy", "The paper's embedded disc accuracy study (Sec. 9.2), nu = 0.2 and 0.49");
+  disc->add_flag("--json", disc_json, "Print JSON instead of a table");
+  disc->callback([] { run_disc_accuracy(disc_json); });
   CLI::App* cgc = bench->add_subcommand(
       "cg", "Conjugate gradients on the non-augmented staggered system (Fig. 11 baseline)");
   add_box_options(cgc, cg_options);

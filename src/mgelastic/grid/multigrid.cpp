@@ -98,12 +98,14 @@ template <int Dim, typename Scalar>
 template <typename T>
 void Multigrid<Dim, Scalar>::set_right_hand_side(const ElasticityProblem<Dim>& problem,
                                                  Level<Dim, T>& fine) {
+  for (const VariableLoad& load : problem.variable_loads)
+    fine.b[load.component][load.face] -= static_cast<T>(load.density);
   if (!problem.body_force) return;
   // L u = div P = -f: the right-hand side of the momentum rows is minus the body force.
   for (int i = 0; i < Dim; ++i) {
     for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(fine.size()); ++k) {
       if (fine.kind[i][k] == VarKind::INTERIOR)
-        fine.b[i][k] = static_cast<T>(-problem.body_force(fine.lattice.face_center(i, k))[i]);
+        fine.b[i][k] -= static_cast<T>(problem.body_force(fine.lattice.face_center(i, k))[i]);
     }
   }
 }

@@ -12,6 +12,14 @@
 
 namespace mgelastic::grid {
 
+// A force density concentrated on one u_component variable of the finest lattice (N/m^3),
+// e.g. an embedded surface force distributed to the staggered grid (Sec. 9.2).
+struct VariableLoad {
+  int component = 0;
+  std::ptrdiff_t face = 0;  // flat index of the face (lattice.hpp layout)
+  double density = 0.0;
+};
+
 template <int Dim>
 struct ElasticityProblem {
   Lattice<Dim> lattice;
@@ -24,6 +32,8 @@ struct ElasticityProblem {
   // Value substituted for a boundary stress P_ij (Sec. 5.3) whose traction condition holds at
   // the given point (a traction face center, or the edge center for i != j). Empty = free.
   std::function<double(int i, int j, const Vec<Dim>&)> boundary_stress;
+  // Extra force densities at individual variables (added to the body force).
+  std::vector<VariableLoad> variable_loads;
 };
 
 }  // namespace mgelastic::grid

@@ -1,0 +1,54 @@
+#pragma once
+// Non-zero traction on an embedded boundary (Zhu et al. 2010, Sec. 9.2). The boundary is given
+// as point forces on it (a polygon's segment forces l * t, half to each endpoint). Each force
+// component f_i is distributed to the u_i variables around its point with the bilinear
+// (trilinear) weights of the staggered u_i lattice. A share landing on an interior variable
+// becomes a force density f w / h^d on the right-hand side; a share landing on a traction
+// variable becomes a traction on the grid face it belongs to, t_i = f_i w (N . N') / h^(d-1)
+// (N the embedded normal, N' the grid face normal), i.e. the value of the boundary stress that
+// Sec. 5.3 eliminates there (P_ii for faces between an interior and an exterior cell, P_ij on the
+// edge next to faces half a cell outside). Shares on Dirichlet variables are held by the
+// constraint; shares on variables no equation references are dropped.
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "mgelastic/grid/problem.hpp"
+
+namespace mgelastic::grid {
+
+template <int Dim>
+struct SurfaceForce {
+  Vec<Dim> position;  // on the embedded boundary
+  Vec<Dim> force;     // N in 3D, N/m in 2D
+  Vec<Dim> normal;    // outward unit normal of the embedded boundary
+};
+
+// Values of eliminated boundary stresses keyed by (i, j, location), looked up at the points
+// explicit_rows.cpp evaluates them (traction face centers, edge centers); absent = 0.
+template <int Dim>
+class BoundaryStressTable {
+ public:
+  explicit BoundaryStressTable(double h) : m_h(h) {}
+  void add(int i, int j, const Vec<Dim>& where, double value) {
+    m_values[key(i, j, where)] += value;
+  }
+  double operator()(int i, int j, const Vec<Dim>& where) const {
+    const auto it = m_values.find(key(i, j, where));
+    return it == m_values.end() ? 0.0 : it->second;
+  }
+  std::size_t size() const { return m_values.size(); }
+
+ private:
+  std::int64_t key(int i, int j, const Vec<Dim>& where) const;
+  double m_h;
+  std::unordered_map<std::int64_t, double> m_values;
+};
+
+// Adds the forces to `problem`: variable loads for interior shares, and a boundary-stress table
+// (combined with any existing problem.boundary_stress) for traction shares.
+template <int Dim>
+void apply_surface_forces(ElasticityProblem<Dim>& problem,
+                          const std::vector<SurfaceForce<Dim>>& forces);
+
+}  // namespace mgelastic::grid
