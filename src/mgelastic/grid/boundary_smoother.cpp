@@ -7,35 +7,35 @@ template <int Dim, typename Scalar>
 Scalar row_dot(const Level<Dim, Scalar>& level, const SparseRows<Scalar>& rows, std::size_t m) {
   Scalar sum = 0;
   for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e)
-    sum += rows.value[e] * level.at(rows.column[e]);
+    sum += rows.value[e] * level.x[rows.column_field[e]][rows.column_index[e]];
   return sum;
 }
 
+// Right-hand side minus the moved boundary stresses of row m.
 template <int Dim, typename Scalar>
-Scalar rhs_at(const Level<Dim, Scalar>& level, std::uint32_t global_index) {
-  return level.b[global_index / level.size()][global_index % level.size()];
+Scalar row_rhs(const Level<Dim, Scalar>& level, const SparseRows<Scalar>& rows, std::size_t m) {
+  return level.b[rows.target_field[m]][rows.target_index[m]] - rows.constant[m];
+}
+
+template <int Dim, typename Scalar>
+Scalar& row_variable(Level<Dim, Scalar>& level, const SparseRows<Scalar>& rows, std::size_t m) {
+  return level.x[rows.target_field[m]][rows.target_index[m]];
+}
+
+template <int Dim, typename Scalar>
+void move_band_variable(Level<Dim, Scalar>& level, std::uint32_t m, Scalar delta) {
+  row_variable(level, level.band_u, m) += delta;
+  for (int c = 0; c < 2; ++c) {
+    const std::uint32_t cell = level.band_u_pressure[m][c];
+    if (cell != UINT32_MAX) level.x[Dim][cell] -= level.band_u_pressure_factor[m][c] * delta;
+  }
 }
 
 template <int Dim, typename Scalar>
 void relax_band_row(Level<Dim, Scalar>& level, std::uint32_t m) {
   const auto& rows = level.band_u;
-  const std::uint32_t target = rows.target[m];
-  const Scalar residual = rhs_at(level, target) - rows.constant[m] - row_dot(level, rows, m);
-  const Scalar delta = residual / level.band_u_schur_diagonal[m];
-  level.at(target) += delta;
-  for (int c = 0; c < 2; ++c) {
-    const std::uint32_t p = level.band_u_pressure[m][c];
-    if (p != UINT32_MAX) level.at(p) -= level.band_u_pressure_factor[m][c] * delta;
-  }
-}
-
-template <int Dim, typename Scalar>
-void move_band_variable(Level<Dim, Scalar>& level, std::uint32_t m, Scalar delta) {
-  level.at(level.band_u.target[m]) += delta;
-  for (int c = 0; c < 2; ++c) {
-    const std::uint32_t p = level.band_u_pressure[m][c];
-    if (p != UINT32_MAX) level.at(p) -= level.band_u_pressure_factor[m][c] * delta;
-  }
+  const Scalar residual = row_rhs(level, rows, m) - row_dot(level, rows, m);
+  move_band_variable(level, m, residual / level.band_u_schur_diagonal[m]);
 }
 
 // Solves the band faces of one eliminated cell together: delta = S_loc^-1 r.
@@ -47,7 +47,7 @@ void relax_band_block(Level<Dim, Scalar>& level, std::size_t block) {
   std::array<Scalar, B> residual{};
   for (int a = 0; a < B && members[a] != UINT32_MAX; ++a) {
     const std::uint32_t m = members[a];
-    residual[a] = rhs_at(level, rows.target[m]) - rows.constant[m] - row_dot(level, rows, m);
+    residual[a] = row_rhs(level, rows, m) - row_dot(level, rows, m);
   }
   const Scalar* inverse = &level.band_block_inverse[block * B * B];
   for (int a = 0; a < B && members[a] != UINT32_MAX; ++a) {
@@ -62,11 +62,12 @@ void relax_band_block(Level<Dim, Scalar>& level, std::size_t block) {
 template <int Dim, typename Scalar>
 void update_band_pressures(Level<Dim, Scalar>& level) {
   const auto& rows = level.band_p;
-  for (std::size_t m = 0; m < rows.rows(); ++m) {
-    const std::uint32_t target = rows.target[m];
-    level.at(target) = level.band_p_inverse[m] *
-                       (rhs_at(level, target) - rows.constant[m] - row_dot(level, rows, m));
-  }
+  const auto count = static_cast<std::ptrdiff_t>(rows.rows());
+  // Each eliminated pressure depends on u only: independent updates.
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t m = 0; m < count; ++m)
+    row_variable(level, rows, m) =
+        level.band_p_inverse[m] * (row_rhs(level, rows, m) - row_dot(level, rows, m));
 }
 
 template <int Dim, typename Scalar>

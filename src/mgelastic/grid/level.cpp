@@ -165,10 +165,15 @@ struct SparseRowsViewT {
 };
 
 template <typename Scalar>
-void append_row(SparseRows<Scalar>& rows, std::uint32_t target, const ExplicitRow& row) {
+void append_row(SparseRows<Scalar>& rows, std::uint32_t target, const ExplicitRow& row,
+                std::size_t size) {
   rows.target.push_back(target);
+  rows.target_field.push_back(static_cast<std::uint8_t>(target / size));
+  rows.target_index.push_back(static_cast<std::uint32_t>(target % size));
   for (const RowTerm& t : row.terms) {
     rows.column.push_back(t.variable);
+    rows.column_field.push_back(static_cast<std::uint8_t>(t.variable / size));
+    rows.column_index.push_back(static_cast<std::uint32_t>(t.variable % size));
     rows.value.push_back(static_cast<Scalar>(t.coefficient));
   }
   rows.start.push_back(static_cast<std::uint32_t>(rows.column.size()));
@@ -226,7 +231,7 @@ void build_band_rows(Level<Dim, Scalar>& level, const RowBuilder<Dim>& builder,
     if (level.relaxation[Dim][k] != Relaxation::BAND) continue;
     const ExplicitRow row = builder.pressure(k);
     band_p_index[k] = static_cast<std::int32_t>(level.band_p.rows());
-    append_row(level.band_p, level.global(Dim, k), row);
+    append_row(level.band_p, level.global(Dim, k), row, level.size());
     level.band_p_extra.push_back(static_cast<Scalar>(row.pressure_extra));
     // 1/D with D = mu^2/lambda + extra, written to stay finite (zero) at lambda = 0.
     level.band_p_inverse.push_back(
@@ -252,7 +257,7 @@ void build_band_rows(Level<Dim, Scalar>& level, const RowBuilder<Dim>& builder,
             band_p_index[t.variable % n] >= 0) {
           const double inverse = level.band_p_inverse[band_p_index[t.variable % n]];
           schur -= t.coefficient * t.coefficient * inverse;
-          coupled[m] = t.variable;
+          coupled[m] = t.variable % n;
           factor[m++] = static_cast<Scalar>(inverse * t.coefficient);
         }
       }
@@ -261,7 +266,7 @@ void build_band_rows(Level<Dim, Scalar>& level, const RowBuilder<Dim>& builder,
       const auto index = static_cast<std::uint32_t>(level.band_u.rows());
       if (pre[i * n + k]) level.pre_restriction_rows.push_back(index);
       if (post[i * n + k]) level.post_prolongation_rows.push_back(index);
-      append_row(level.band_u, self, row);
+      append_row(level.band_u, self, row, level.size());
       level.band_u_schur_diagonal.push_back(static_cast<Scalar>(schur));
     }
   }

@@ -32,6 +32,10 @@ struct SparseRows {
   std::vector<std::uint32_t> column;
   std::vector<Scalar> value;
   std::vector<Scalar> constant;
+  // The same indices split into (field, flat index) for the sweeps, which then read
+  // x[field][index] without dividing.
+  std::vector<std::uint8_t> target_field, column_field;
+  std::vector<std::uint32_t> target_index, column_index;
   std::size_t rows() const { return target.size(); }
 };
 
@@ -86,7 +90,7 @@ struct Level {
   SparseRows<Scalar> band_u;
   std::vector<Scalar> band_u_schur_diagonal;
   // Keeping eliminated pressures exact while u moves: p_c -= factor * delta for the (up to two)
-  // band pressures of the row (factor = D_c^-1 G_fc; index UINT32_MAX when absent).
+  // band pressures of the row (factor = D_c^-1 G_fc; cell index c, UINT32_MAX when absent).
   std::vector<std::array<std::uint32_t, 2>> band_u_pressure;
   std::vector<std::array<Scalar, 2>> band_u_pressure_factor;
   SparseRows<Scalar> band_p;           // u terms only; the p diagonal is D = mu^2/lambda + extra

@@ -16,6 +16,7 @@ void momentum_residual(Level<Dim, Scalar>& level, const std::array<const Scalar*
   Scalar* r = level.r[Axis].data();
   const Scalar* p = level.x[Dim].data();
   const auto n = static_cast<std::ptrdiff_t>(level.size());
+#pragma omp parallel for schedule(static)
   for (std::ptrdiff_t k = 0; k < n; ++k) {
     r[k] = relax[k] == Relaxation::DISTRIBUTIVE
                ? b[k] - momentum_row<Dim, Scalar, Axis>(u, p, s, k, c)
@@ -34,6 +35,7 @@ void pressure_residual(Level<Dim, Scalar>& level, const std::array<const Scalar*
   const Scalar mu = level.mu, lambda = level.lambda;
   const Scalar d = lambda > 0 ? mu * mu / lambda : Scalar(0);
   const auto n = static_cast<std::ptrdiff_t>(level.size());
+#pragma omp parallel for schedule(static)
   for (std::ptrdiff_t k = 0; k < n; ++k) {
     r[k] = relax[k] == Relaxation::DISTRIBUTIVE && lambda > 0
                ? b[k] - mu * divergence<Dim, Scalar>(u, s, k, c.inv_h) - d * p[k]
@@ -43,26 +45,29 @@ void pressure_residual(Level<Dim, Scalar>& level, const std::array<const Scalar*
 
 template <int Dim, typename Scalar>
 void band_residual(Level<Dim, Scalar>& level) {
-  const auto n = level.size();
-  const auto& u_rows = level.band_u;
-  for (std::size_t m = 0; m < u_rows.rows(); ++m) {
+  auto row_value = [&](const SparseRows<Scalar>& rows, std::ptrdiff_t m) {
     Scalar sum = 0;
-    for (std::uint32_t e = u_rows.start[m]; e < u_rows.start[m + 1]; ++e)
-      sum += u_rows.value[e] * level.at(u_rows.column[e]);
-    const std::uint32_t t = u_rows.target[m];
-    level.r[t / n][t % n] = level.b[t / n][t % n] - u_rows.constant[m] - sum;
+    for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e)
+      sum += rows.value[e] * level.x[rows.column_field[e]][rows.column_index[e]];
+    return sum;
+  };
+  const auto& u_rows = level.band_u;
+  const auto u_count = static_cast<std::ptrdiff_t>(u_rows.rows());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t m = 0; m < u_count; ++m) {
+    const int f = u_rows.target_field[m];
+    const std::uint32_t k = u_rows.target_index[m];
+    level.r[f][k] = level.b[f][k] - u_rows.constant[m] - row_value(u_rows, m);
   }
   if (level.lambda <= 0) return;
   const auto& p_rows = level.band_p;
   const Scalar d0 = level.mu * level.mu / level.lambda;
-  for (std::size_t m = 0; m < p_rows.rows(); ++m) {
-    Scalar sum = 0;
-    for (std::uint32_t e = p_rows.start[m]; e < p_rows.start[m + 1]; ++e)
-      sum += p_rows.value[e] * level.at(p_rows.column[e]);
-    const std::uint32_t t = p_rows.target[m];
-    const Scalar p = level.at(t);
-    level.r[Dim][t % n] =
-        level.b[Dim][t % n] - p_rows.constant[m] - sum - (d0 + level.band_p_extra[m]) * p;
+  const auto p_count = static_cast<std::ptrdiff_t>(p_rows.rows());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t m = 0; m < p_count; ++m) {
+    const std::uint32_t k = p_rows.target_index[m];
+    level.r[Dim][k] = level.b[Dim][k] - p_rows.constant[m] - row_value(p_rows, m) -
+                      (d0 + level.band_p_extra[m]) * level.x[Dim][k];
   }
 }
 

@@ -1,6 +1,8 @@
 #include "mgelastic/grid/transfer.hpp"
 
 #include <algorithm>
+#include <array>
+#include <initializer_list>
 
 namespace mgelastic::grid {
 namespace {
@@ -9,7 +11,19 @@ struct Tap {
   int coordinate;  // stored coordinate on the other level
   double weight;
 };
-using Taps = std::vector<Tap>;
+// Up to three taps per axis, kept on the stack (these run for every variable of every level).
+struct Taps {
+  std::array<Tap, 3> tap{};
+  int count = 0;
+  Taps() = default;
+  Taps(std::initializer_list<Tap> list) {
+    for (const Tap& t : list) tap[count++] = t;
+  }
+  const Tap* begin() const { return tap.data(); }
+  const Tap* end() const { return tap.data() + count; }
+  std::size_t size() const { return static_cast<std::size_t>(count); }
+  const Tap& operator[](std::size_t i) const { return tap[i]; }
+};
 
 // Fine stored coordinates read by the coarse variable at coarse stored coordinate `s` along an
 // axis where the variable is face-centered (B2) or cell-centered (B1).
@@ -65,6 +79,7 @@ void restrict_residual(const Level<Dim, Scalar>& fine, Level<Dim, Scalar>& coars
     std::fill(coarse.x[field].begin(), coarse.x[field].end(), Scalar(0));
     std::fill(coarse.b[field].begin(), coarse.b[field].end(), Scalar(0));
     const std::vector<Scalar>& r = fine.r[field];
+#pragma omp parallel for schedule(static)
     for (std::ptrdiff_t k = 0; k < n; ++k) {
       if (coarse.kind[field][k] != VarKind::INTERIOR) continue;
       const IVec<Dim> s = coarse.lattice.coords(k);
@@ -134,6 +149,7 @@ template <int Dim, typename Scalar>
 void prolongate_correction(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>& fine) {
   const auto n = static_cast<std::ptrdiff_t>(fine.size());
   for (int field = 0; field < Dim; ++field) {
+#pragma omp parallel for schedule(static)
     for (std::ptrdiff_t k = 0; k < n; ++k) {
       if (fine.kind[field][k] != VarKind::INTERIOR) continue;
       const IVec<Dim> s = fine.lattice.coords(k);
@@ -145,6 +161,7 @@ void prolongate_correction(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>&
     }
   }
   // Pressures: piecewise constant injection from interior coarse cells.
+#pragma omp parallel for schedule(static)
   for (std::ptrdiff_t k = 0; k < n; ++k) {
     if (fine.kind[Dim][k] != VarKind::INTERIOR) continue;
     IVec<Dim> cs = fine.lattice.coords(k);
