@@ -5,7 +5,7 @@
 namespace mgelastic {
 
 void set_thread_count(int n) {
-  if (n > 0) omp_set_num_threads(n);
+  omp_set_num_threads(n > 0 ? n : omp_get_num_procs());
 }
 
 int thread_count() { return omp_get_max_threads(); }

@@ -3,7 +3,7 @@
 
 namespace mgelastic {
 
-// Sets the number of worker threads; n <= 0 keeps the OpenMP default.
+// Sets the number of worker threads; n <= 0 uses every processor.
 void set_thread_count(int n);
 int thread_count();
 

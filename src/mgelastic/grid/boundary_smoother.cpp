@@ -78,9 +78,15 @@ void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps,
     if (subset) {
       for (std::uint32_t m : *subset) relax_band_row(level, m);
     } else {
-      for (std::size_t block = 0; block < level.band_blocks.size(); ++block)
-        relax_band_block(level, block);
-      for (std::uint32_t m : level.band_point_rows) relax_band_row(level, m);
+      // Colored blocks: the blocks of one color touch disjoint variables.
+      for (const auto& color : level.band_schedule) {
+        const auto count = static_cast<std::ptrdiff_t>(color.size());
+#pragma omp parallel for schedule(dynamic, 1)
+        for (std::ptrdiff_t b = 0; b < count; ++b) {
+          for (std::uint32_t e : color[b].cell_blocks) relax_band_block(level, e);
+          for (std::uint32_t m : color[b].point_rows) relax_band_row(level, m);
+        }
+      }
     }
   }
 }

@@ -25,6 +25,16 @@ struct Views {
   }
 };
 
+// Visits every lattice point, color by color; the blocks of one color run in parallel.
+template <int Dim, typename Scalar, typename F>
+void for_each_colored_block(const Level<Dim, Scalar>& level, F&& visit) {
+  for (const auto& color : level.blocks.colors) {
+    const auto count = static_cast<std::ptrdiff_t>(color.size());
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::ptrdiff_t b = 0; b < count; ++b) for_each_in_block(level.lattice, color[b], visit);
+  }
+}
+
 template <int Dim, typename Scalar, int Axis>
 void sweep_momentum(Level<Dim, Scalar>& level, Views<Dim, Scalar>& v) {
   const Relaxation* relax = level.relaxation[Axis].data();
@@ -36,15 +46,14 @@ void sweep_momentum(Level<Dim, Scalar>& level, Views<Dim, Scalar>& v) {
       Scalar(-1) / (Scalar(pressure_free ? 2 * Dim + 2 : 2 * Dim) * v.c.mu * v.c.inv_h2);
   const Scalar p_step = pressure_free ? Scalar(0) : v.c.inv_h;
   const std::ptrdiff_t si = v.s[Axis];
-  const auto n = static_cast<std::ptrdiff_t>(level.size());
-  for (std::ptrdiff_t k = 0; k < n; ++k) {
-    if (relax[k] != Relaxation::DISTRIBUTIVE) continue;
+  for_each_colored_block(level, [&](std::ptrdiff_t k) {
+    if (relax[k] != Relaxation::DISTRIBUTIVE) return;
     const Scalar r = b[k] - momentum_row<Dim, Scalar, Axis>(v.u_const, v.p, v.s, k, v.c);
     const Scalar delta = r * inv_diagonal;
     v.u[Axis][k] += delta;
     v.p[k] -= delta * p_step;
     v.p[k - si] += delta * p_step;
-  }
+  });
 }
 
 // q step next to Dirichlet cells: the distribution moves only interior faces and interior
@@ -94,14 +103,13 @@ void sweep_pressure(Level<Dim, Scalar>& level, Views<Dim, Scalar>& v) {
   // stays finite for small lambda.
   const Scalar inv_denominator =
       Scalar(1) / (mu * (lambda + 2 * mu) * Scalar(2 * Dim) * v.c.inv_h2);
-  const auto n = static_cast<std::ptrdiff_t>(level.size());
-  for (std::ptrdiff_t k = 0; k < n; ++k) {
-    if (relax[k] != Relaxation::DISTRIBUTIVE) continue;
+  for_each_colored_block(level, [&](std::ptrdiff_t k) {
+    if (relax[k] != Relaxation::DISTRIBUTIVE) return;
     const Scalar div = divergence<Dim, Scalar>(v.u_const, v.s, k, v.c.inv_h);
     const Scalar scaled_residual = lambda * (b[k] - mu * div) - mu * mu * v.p[k];
     if (!all_neighbors_interior(level, v, k)) {
       restricted_pressure_step(level, v, k, scaled_residual);
-      continue;
+      return;
     }
     const Scalar delta = scaled_residual * inv_denominator;
     const Scalar du = delta * v.c.inv_h;
@@ -112,7 +120,7 @@ void sweep_pressure(Level<Dim, Scalar>& level, Views<Dim, Scalar>& v) {
       v.p[k - v.s[i]] -= 2 * delta * v.c.inv_h2;
     }
     v.p[k] += Scalar(4 * Dim) * delta * v.c.inv_h2;
-  }
+  });
 }
 
 }  // namespace

@@ -328,6 +328,42 @@ void build_band_blocks(Level<Dim, Scalar>& level) {
     if (!in_block[m]) level.band_point_rows.push_back(m);
 }
 
+// Groups the band work by the colored blocks that contain each row's (or cell's) location.
+template <int Dim, typename Scalar>
+void build_band_schedule(Level<Dim, Scalar>& level) {
+  const auto& partition = level.blocks;
+  std::vector<std::pair<int, int>> slot(partition.blocks_per_axis.prod());
+  for (int c = 0; c < BlockPartition<Dim>::color_count; ++c) {
+    level.band_schedule[c].resize(partition.colors[c].size());
+    for (std::size_t b = 0; b < partition.colors[c].size(); ++b) {
+      const IVec<Dim> lo = partition.colors[c][b].lo;
+      int linear = 0, stride = 1;
+      for (int a = 0; a < Dim; ++a) {
+        linear += ((lo[a] - 1) / partition.block_size[a]) * stride;
+        stride *= partition.blocks_per_axis[a];
+      }
+      slot[linear] = {c, static_cast<int>(b)};
+    }
+  }
+  auto work_at = [&](std::ptrdiff_t k) -> typename Level<Dim, Scalar>::BandWork& {
+    const IVec<Dim> s = level.lattice.coords(k);
+    int linear = 0, stride = 1;
+    for (int a = 0; a < Dim; ++a) {
+      linear += ((s[a] - 1) / partition.block_size[a]) * stride;
+      stride *= partition.blocks_per_axis[a];
+    }
+    const auto [color, index] = slot[linear];
+    return level.band_schedule[color][index];
+  };
+  for (std::size_t e = 0; e < level.band_blocks.size(); ++e) {
+    const std::uint32_t first_row = level.band_blocks[e][0];
+    work_at(level.band_u.target_index[first_row])
+        .cell_blocks.push_back(static_cast<std::uint32_t>(e));
+  }
+  for (std::uint32_t m : level.band_point_rows)
+    work_at(level.band_u.target_index[m]).point_rows.push_back(m);
+}
+
 template <int Dim, typename Scalar>
 bool known_after_normal_pass(const Level<Dim, Scalar>& level, int axis, std::ptrdiff_t k) {
   const VarKind kind = level.kind[axis][k];
@@ -458,6 +494,8 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
   const RowBuilder<Dim> builder(level.lattice, level.cells, material.mu(), sigma);
   build_band_rows(level, builder, pre, post);
   build_band_blocks(level);
+  level.blocks = partition_into_blocks(level.lattice);
+  build_band_schedule(level);
   build_traction_rules(level, sigma);
   return level;
 }

@@ -11,6 +11,7 @@
 #include <functional>
 #include <vector>
 
+#include "mgelastic/grid/block_partition.hpp"
 #include "mgelastic/grid/lattice.hpp"
 #include "mgelastic/grid/material.hpp"
 
@@ -109,6 +110,15 @@ struct Level {
   std::vector<std::array<std::uint32_t, 2 * Dim>> band_blocks;  // band_u rows, UINT32_MAX = none
   std::vector<Scalar> band_block_inverse;
   std::vector<std::uint32_t> band_point_rows;
+
+  // Multithreading (Sec. 9.4): colored blocks of the volume for the distributive sweeps, and
+  // the band's work grouped by the same blocks (the separate partition of the boundary band),
+  // per color: per block, its eliminated-cell blocks and point rows in sweep order.
+  struct BandWork {
+    std::vector<std::uint32_t> cell_blocks, point_rows;
+  };
+  BlockPartition<Dim> blocks;
+  std::array<std::vector<BandWork>, (1 << Dim)> band_schedule;
 
   std::size_t size() const { return lattice.size(); }
   std::uint32_t global(int field, std::ptrdiff_t k) const {

@@ -1,0 +1,54 @@
+#include "mgelastic/grid/block_partition.hpp"
+
+namespace mgelastic::grid {
+
+template <>
+IVec<2> default_block_size<2>() {
+  return IVec<2>(16, 16);
+}
+
+template <>
+IVec<3> default_block_size<3>() {
+  return IVec<3>(16, 8, 8);
+}
+
+template <int Dim>
+int BlockPartition<Dim>::color_of(const IVec<Dim>& s) const {
+  int color = 0;
+  for (int a = 0; a < Dim; ++a) color |= (((s[a] - 1) / block_size[a]) & 1) << a;
+  return color;
+}
+
+template <int Dim>
+BlockPartition<Dim> partition_into_blocks(const Lattice<Dim>& lattice,
+                                          const IVec<Dim>& block_size) {
+  BlockPartition<Dim> partition;
+  partition.block_size = block_size;
+  for (int a = 0; a < Dim; ++a)
+    partition.blocks_per_axis[a] = (lattice.cells[a] + block_size[a] - 1) / block_size[a];
+  IVec<Dim> b = IVec<Dim>::Zero();
+  const int total = partition.blocks_per_axis.prod();
+  for (int index = 0; index < total; ++index) {
+    int rest = index;
+    for (int a = 0; a < Dim; ++a) {
+      b[a] = rest % partition.blocks_per_axis[a];
+      rest /= partition.blocks_per_axis[a];
+    }
+    Block<Dim> block;
+    int color = 0;
+    for (int a = 0; a < Dim; ++a) {
+      block.lo[a] = 1 + b[a] * block_size[a];
+      block.hi[a] = std::min(block.lo[a] + block_size[a], lattice.cells[a] + 1);
+      color |= (b[a] & 1) << a;
+    }
+    partition.colors[color].push_back(block);
+  }
+  return partition;
+}
+
+template struct BlockPartition<2>;
+template struct BlockPartition<3>;
+template BlockPartition<2> partition_into_blocks<2>(const Lattice<2>&, const IVec<2>&);
+template BlockPartition<3> partition_into_blocks<3>(const Lattice<3>&, const IVec<3>&);
+
+}  // namespace mgelastic::grid

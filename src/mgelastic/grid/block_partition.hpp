@@ -1,0 +1,55 @@
+#pragma once
+// Colored rectangular blocks for multithreaded Gauss-Seidel (Sec. 9.4, Fig. 19): the real cells
+// of a lattice are cut into blocks (default 16 x 8 x 8 cells; 16 x 16 in 2D) and each block gets
+// the color given by the parity of its block index along every axis, 2^d colors. Two blocks of
+// one color are at least one block apart, wider than any stencil's reach (2 cells), so blocks of
+// one color are relaxed concurrently without locks. The traversal order is fixed, so results do
+// not depend on the thread count.
+#include <array>
+#include <vector>
+
+#include "mgelastic/grid/lattice.hpp"
+
+namespace mgelastic::grid {
+
+template <int Dim>
+struct Block {
+  IVec<Dim> lo, hi;  // stored coordinates, half-open [lo, hi)
+};
+
+template <int Dim>
+struct BlockPartition {
+  static constexpr int color_count = 1 << Dim;
+  std::array<std::vector<Block<Dim>>, color_count> colors;
+  IVec<Dim> blocks_per_axis;
+  IVec<Dim> block_size;
+
+  // Color and index (within its color) of the block containing stored coordinates s.
+  int color_of(const IVec<Dim>& s) const;
+};
+
+template <int Dim>
+IVec<Dim> default_block_size();
+
+template <int Dim>
+BlockPartition<Dim> partition_into_blocks(const Lattice<Dim>& lattice,
+                                          const IVec<Dim>& block_size = default_block_size<Dim>());
+
+// Calls f(k) for every flat index of the block in lexicographic order (x fastest).
+template <int Dim, typename F>
+void for_each_in_block(const Lattice<Dim>& lattice, const Block<Dim>& block, F&& f) {
+  if constexpr (Dim == 2) {
+    for (int y = block.lo[1]; y < block.hi[1]; ++y) {
+      const std::ptrdiff_t row = lattice.index(IVec<2>(0, y));
+      for (int x = block.lo[0]; x < block.hi[0]; ++x) f(row + x);
+    }
+  } else {
+    for (int z = block.lo[2]; z < block.hi[2]; ++z)
+      for (int y = block.lo[1]; y < block.hi[1]; ++y) {
+        const std::ptrdiff_t row = lattice.index(IVec<3>(0, y, z));
+        for (int x = block.lo[0]; x < block.hi[0]; ++x) f(row + x);
+      }
+  }
+}
+
+}  // namespace mgelastic::grid
