@@ -30,10 +30,22 @@ grid::BoxSpec box_spec(const BoxBenchOptions& o) {
   return spec;
 }
 
-template <int Dim, typename Scalar>
-nlohmann::json convergence(const BoxBenchOptions& o) {
+grid::MultigridOptions multigrid_options(const BoxBenchOptions& o) {
   grid::MultigridOptions options;
   options.boundary_sweeps = o.boundary_sweeps;
+  if (o.cycle == "V") {
+    options.cycle = grid::CycleType::V;
+  } else if (o.cycle == "W") {
+    options.cycle = grid::CycleType::W;
+  } else {
+    throw Error("must be 'V' or 'W' (got '" + o.cycle + "')", {.pointer = "--cycle"});
+  }
+  return options;
+}
+
+template <int Dim, typename Scalar>
+nlohmann::json convergence(const BoxBenchOptions& o) {
+  grid::MultigridOptions options = multigrid_options(o);
   grid::Multigrid<Dim, Scalar> mg(grid::make_box_problem<Dim>(box_spec(o)), options);
   const grid::SolveReport report = mg.run_cycles(o.cycles);
   // Residuals are evaluated in double in both precisions (float runs mixed precision).
@@ -45,6 +57,7 @@ nlohmann::json convergence(const BoxBenchOptions& o) {
           {"poisson", o.poisson},
           {"bc", o.bc},
           {"precision", o.precision},
+          {"cycle", o.cycle},
           {"boundary_sweeps", mg.boundary_sweeps()},
           {"levels", mg.levels()},
           {"unknowns", mg.unknowns()},
@@ -77,7 +90,7 @@ nlohmann::json cg(const BoxBenchOptions& o) {
   Eigen::VectorXd u = Eigen::VectorXd::Zero(rhs.size());
   const auto report = grid::conjugate_gradient(a, rhs, u, o.tolerance, 100000);
   // The multigrid solver on the same problem and tolerance, side by side in the same run.
-  grid::Multigrid<Dim, double> solver(problem);
+  grid::Multigrid<Dim, double> solver(problem, multigrid_options(o));
   const grid::SolveReport mg_report = solver.solve(o.tolerance, 200);
   return {{"benchmark", "cg"},
           {"multigrid_cycles", mg_report.cycles()},
@@ -96,9 +109,10 @@ nlohmann::json cg(const BoxBenchOptions& o) {
 }
 
 void print_convergence(const nlohmann::json& r) {
-  std::printf("mixed-formulation multigrid, %dD box N=%d, nu=%.4g, bc=%s, %s\n",
-              r["dim"].get<int>(), r["n"].get<int>(), r["poisson"].get<double>(),
-              r["bc"].get<std::string>().c_str(), r["precision"].get<std::string>().c_str());
+  std::printf("mixed-formulation multigrid (%s(1,1) cycles), %dD box N=%d, nu=%.4g, bc=%s, %s\n",
+              r["cycle"].get<std::string>().c_str(), r["dim"].get<int>(), r["n"].get<int>(),
+              r["poisson"].get<double>(), r["bc"].get<std::string>().c_str(),
+              r["precision"].get<std::string>().c_str());
   std::printf("levels %d, interior unknowns %zu, boundary sweeps %d\n", r["levels"].get<int>(),
               r["unknowns"].get<std::size_t>(), r["boundary_sweeps"].get<int>());
   std::printf("%6s %14s %8s\n", "cycle", "residual", "ratio");
@@ -135,6 +149,7 @@ void add_box_options(CLI::App* cmd, BoxBenchOptions& o) {
   cmd->add_option("--youngs", o.youngs, "Young's modulus (Pa)");
   cmd->add_option("--bc", o.bc, "Boundary conditions: mixed or dirichlet");
   cmd->add_flag("--json", o.json, "Print JSON instead of a table");
+  cmd->add_option("--cycle", o.cycle, "Multigrid cycle: V (Algorithm 1, default) or W");
   cmd->add_option("--threads", o.threads, "Worker threads (default: all cores)");
 }
 

@@ -15,6 +15,7 @@ struct BoxBenchOptions {
   std::string precision = "double";
   double tolerance = 1e-6;
   int boundary_sweeps = 0;
+  std::string cycle = "V";
   bool json = false;
   int threads = 0;
 };

@@ -164,32 +164,39 @@ double Multigrid<Dim, Scalar>::vcycle() {
 
 template <int Dim, typename Scalar>
 void Multigrid<Dim, Scalar>::cycle_correction() {
+  correct(0);
+}
+
+// Algorithm 1 written recursively: level l improves x for its equations b; the coarse problem
+// is visited once (V-cycle) or twice (W-cycle) per visit of level l.
+template <int Dim, typename Scalar>
+void Multigrid<Dim, Scalar>::correct(int l) {
   const int coarsest = levels() - 1;
-  for (int l = 0; l < coarsest; ++l) {
-    smooth(l);
-    Timer timer;
-    band_gauss_seidel(m_levels[l], m_options.relocation_sweeps, &m_levels[l].pre_restriction_rows);
-    m_phases.boundary_smoothing += timer.seconds();
-    timer.restart();
-    compute_residual(m_levels[l]);
-    m_phases.residual += timer.seconds();
-    timer.restart();
-    restrict_residual(m_levels[l], m_levels[l + 1]);
-    m_phases.restriction += timer.seconds();
-  }
   Timer timer;
-  m_coarse->solve(m_levels[coarsest]);
-  m_phases.coarse_solve += timer.seconds();
-  for (int l = coarsest - 1; l >= 0; --l) {
-    timer.restart();
-    prolongate_correction(m_levels[l + 1], m_levels[l]);
-    m_phases.prolongation += timer.seconds();
-    timer.restart();
-    band_gauss_seidel(m_levels[l], m_options.relocation_sweeps,
-                      &m_levels[l].post_prolongation_rows);
-    m_phases.boundary_smoothing += timer.seconds();
-    smooth(l);
+  if (l == coarsest) {
+    m_coarse->solve(m_levels[coarsest]);
+    m_phases.coarse_solve += timer.seconds();
+    return;
   }
+  smooth(l);
+  timer.restart();
+  band_gauss_seidel(m_levels[l], m_options.relocation_sweeps, &m_levels[l].pre_restriction_rows);
+  m_phases.boundary_smoothing += timer.seconds();
+  timer.restart();
+  compute_residual(m_levels[l]);
+  m_phases.residual += timer.seconds();
+  timer.restart();
+  restrict_residual(m_levels[l], m_levels[l + 1]);
+  m_phases.restriction += timer.seconds();
+  const int visits = (m_options.cycle == CycleType::W && l + 1 < coarsest) ? 2 : 1;
+  for (int visit = 0; visit < visits; ++visit) correct(l + 1);
+  timer.restart();
+  prolongate_correction(m_levels[l + 1], m_levels[l]);
+  m_phases.prolongation += timer.seconds();
+  timer.restart();
+  band_gauss_seidel(m_levels[l], m_options.relocation_sweeps, &m_levels[l].post_prolongation_rows);
+  m_phases.boundary_smoothing += timer.seconds();
+  smooth(l);
 }
 
 template <int Dim, typename Scalar>

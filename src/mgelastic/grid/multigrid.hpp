@@ -12,7 +12,11 @@
 
 namespace mgelastic::grid {
 
+// V: the coarse problem is visited once per level visit (Algorithm 1); W: twice.
+enum class CycleType { V, W };
+
 struct MultigridOptions {
+  CycleType cycle = CycleType::V;
   // Gauss-Seidel sweeps of the boundary band before and after each distributive sweep;
   // 0 = as the paper: 2 for nu <= 0.45, 3 up to 0.49, 4 above.
   int boundary_sweeps = 0;
@@ -71,6 +75,7 @@ class Multigrid {
  private:
   void smooth(int l);
   void cycle_correction();
+  void correct(int level);
   template <typename T>
   void set_right_hand_side(const ElasticityProblem<Dim>& problem, Level<Dim, T>& level);
 
