@@ -1,0 +1,26 @@
+#pragma once
+// A solid region of space: the common interface of analytic primitives, CSG combinations and
+// closed triangle meshes. Signed distance is negative inside.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <memory>
+
+namespace mgelastic::geometry {
+
+using Point = Eigen::Vector3d;
+using BoundingBox = Eigen::AlignedBox3d;
+
+class Shape {
+ public:
+  virtual ~Shape() = default;
+  // Signed distance to the boundary (negative inside). Exact for primitives; CSG combinations
+  // return the usual min/max bound, which is exact outside of concave creases.
+  virtual double signed_distance(const Point& p) const = 0;
+  virtual bool contains(const Point& p) const { return signed_distance(p) <= 0.0; }
+  // A box containing the whole region.
+  virtual BoundingBox bounding_box() const = 0;
+};
+
+using ShapePtr = std::shared_ptr<const Shape>;
+
+}  // namespace mgelastic::geometry
