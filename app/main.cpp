@@ -4,6 +4,7 @@
 
 #include "bench_command.hpp"
 #include "demo_command.hpp"
+#include "scene_commands.hpp"
 #include "mgelastic/core/error.hpp"
 
 int main(int argc, char** argv) {
@@ -14,6 +15,7 @@ int main(int argc, char** argv) {
   });
   mgelastic::app::register_bench_commands(app);
   mgelastic::app::register_demo_command(app);
+  mgelastic::app::register_scene_commands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

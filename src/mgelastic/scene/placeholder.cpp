@@ -1,1 +1,0 @@
-// Placeholder until the scene module's first files land.

@@ -1,0 +1,50 @@
+#pragma once
+// A validated scene: typed values for the engines, with the geometry kept as its validated JSON
+// shape description (built into geometry::Shape objects by build_shape).
+#include <Eigen/Core>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace mgelastic::scene {
+
+struct Scene {
+  std::string file;                 // how errors name the scene
+  std::filesystem::path directory;  // mesh paths are relative to it
+  nlohmann::json document;          // the validated document, defaults filled in
+
+  std::string engine;
+  nlohmann::json geometry;
+  double cell_size = 0;
+  int resolution = 64;
+  int padding = 0;
+  double youngs_modulus = 1e5, poisson_ratio = 0.45, density = 1000;
+  struct Constraint {
+    nlohmann::json region;
+    std::string motion;
+  };
+  std::vector<Constraint> constraints;
+  Eigen::Vector3d gravity = Eigen::Vector3d(0, -9.81, 0);
+  struct Traction {
+    nlohmann::json region;
+    Eigen::Vector3d traction;
+  };
+  std::vector<Traction> tractions;
+  double tolerance = 1e-6;
+  int max_vcycles = 50;
+  std::string precision = "float", cycle = "V";
+  int boundary_sweeps = 0;
+  std::string output_dir = "out";
+  std::vector<std::string> formats;
+};
+
+// Reads, validates and types a scene file; errors name the file and line (JSON syntax) or the
+// JSON pointer (schema).
+Scene load_scene(const std::filesystem::path& path);
+
+// Same for an in-memory document; `file` names it in errors.
+Scene parse_scene(const nlohmann::json& document, const std::string& file,
+                  const std::filesystem::path& directory);
+
+}  // namespace mgelastic::scene

@@ -1,0 +1,414 @@
+#include "mgelastic/scene/schema.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "mgelastic/core/error.hpp"
+
+namespace mgelastic::scene {
+namespace {
+
+Field number(std::string name, std::string description, std::string unit, nlohmann::json fallback,
+             std::optional<double> minimum = {}, bool exclusive_minimum = false,
+             std::optional<double> maximum = {}, bool exclusive_maximum = false) {
+  Field f{std::move(name), FieldType::NUMBER, std::move(description), std::move(unit),
+          std::move(fallback)};
+  f.minimum = minimum;
+  f.exclusive_minimum = exclusive_minimum;
+  f.maximum = maximum;
+  f.exclusive_maximum = exclusive_maximum;
+  return f;
+}
+
+Field integer(std::string name, std::string description, nlohmann::json fallback, int minimum) {
+  Field f{std::move(name), FieldType::INTEGER, std::move(description), "", std::move(fallback)};
+  f.minimum = minimum;
+  return f;
+}
+
+Field choice(std::string name, std::string description, std::string fallback,
+             std::vector<std::string> choices) {
+  Field f{std::move(name), FieldType::STRING, std::move(description), "", std::move(fallback)};
+  f.choices = std::move(choices);
+  return f;
+}
+
+Field object(std::string name, std::string description, std::vector<Field> members) {
+  Field f{std::move(name), FieldType::OBJECT, std::move(description), "", nlohmann::json::object()};
+  f.children = std::move(members);
+  return f;
+}
+
+Field array(std::string name, std::string description, Field element) {
+  Field f{std::move(name), FieldType::ARRAY, std::move(description), "", nlohmann::json::array()};
+  f.children = {std::move(element)};
+  return f;
+}
+
+Field shape(std::string name, std::string description, bool required) {
+  Field f{std::move(name), FieldType::SHAPE, std::move(description)};
+  f.required = required;
+  return f;
+}
+
+Field vector3(std::string name, std::string description, std::string unit,
+              nlohmann::json fallback) {
+  return Field{std::move(name), FieldType::VECTOR3, std::move(description), std::move(unit),
+               std::move(fallback)};
+}
+
+Field build_schema() {
+  Field engine = choice("engine", "Simulation engine: the staggered-grid multigrid or the tet FEM",
+                        "grid", {"grid", "tet"});
+  Field geometry = shape("geometry", "The elastic body (see Shapes below)", true);
+  Field grid = object(
+      "grid", "Embedding lattice of the grid engine (Sec. 5.1)",
+      {number("cell_size", "Cell edge length; 0 = derive from `resolution`", "m", 0.0, 0.0),
+       integer("resolution", "Cells along the longest axis of the body's bounding box", 64, 4),
+       integer("padding", "Extra layers of cells around the body (Sec. 9.2)", 0, 0)});
+  Field material =
+      object("material", "Isotropic linear material",
+             {number("youngs_modulus", "Young's modulus E", "Pa", 1e5, 0.0, true),
+              number("poisson_ratio", "Poisson ratio nu", "", 0.45, 0.0, false, 0.5, true),
+              number("density", "Mass density (gravity load)", "kg/m^3", 1000.0, 0.0, true)});
+  Field constraint =
+      object("", "A Dirichlet region",
+             {shape("region", "Cells overlapping this shape are Dirichlet (fixed) cells", true),
+              choice("motion", "Prescribed motion of the region", "fixed", {"fixed"})});
+  Field traction =
+      object("", "A traction on the part of the body's surface inside a region (Sec. 9.2)",
+             {shape("region", "Surface inside this shape carries the traction", true),
+              vector3("traction", "Force per area on the surface", "Pa",
+                      nlohmann::json::array({0, 0, 0}))});
+  Field loads = object("loads", "External loads",
+                       {vector3("gravity", "Gravitational acceleration", "m/s^2",
+                                nlohmann::json::array({0, -9.81, 0})),
+                        array("tractions", "Surface tractions", traction)});
+  Field solver =
+      object("solver", "Multigrid solver",
+             {number("tolerance", "Relative residual to reach", "", 1e-6, 0.0, true, 1.0, true),
+              integer("max_vcycles", "Cycle limit", 50, 1),
+              choice("precision", "Arithmetic of the cycles (float runs mixed precision)", "float",
+                     {"float", "double"}),
+              choice("cycle", "V (Algorithm 1) or W cycles", "V", {"V", "W"}),
+              integer("boundary_sweeps",
+                      "Band Gauss-Seidel sweeps per pass; 0 = paper default for nu", 0, 0)});
+  Field formats = choice("", "Output format", "vtk", {"vtk", "obj", "ply"});
+  Field output =
+      object("output", "Results",
+             {Field{"dir", FieldType::STRING, "Output directory, relative to the working directory",
+                    "", "out"},
+              [&] {
+                Field f = array("formats",
+                                "vtk: grid fields (.vti) + .pvd series; obj/ply: deformed surface",
+                                formats);
+                f.default_value = nlohmann::json::array({"vtk", "obj"});
+                return f;
+              }()});
+  Field root =
+      object("", "A mgelastic scene",
+             {engine, geometry, grid, material,
+              array("constraints", "Dirichlet regions", constraint), loads, solver, output});
+  return root;
+}
+
+std::string format_number(double v) {
+  std::ostringstream s;
+  s.precision(12);
+  s << v;
+  return s.str();
+}
+
+[[noreturn]] void fail(const std::string& file, const std::string& pointer,
+                       const std::string& why) {
+  throw Error(why, ErrorContext{.file = file, .pointer = pointer.empty() ? "/" : pointer});
+}
+
+void check_number(const Field& f, const nlohmann::json& v, const std::string& file,
+                  const std::string& pointer) {
+  if (!v.is_number()) fail(file, pointer, "expected a number, got " + std::string(v.type_name()));
+  const double x = v.get<double>();
+  if (!std::isfinite(x)) fail(file, pointer, "must be finite");
+  if (f.type == FieldType::INTEGER && (!v.is_number_integer()))
+    fail(file, pointer, "expected an integer, got " + format_number(x));
+  auto bound = [&](bool ok, const std::string& what) {
+    if (!ok) fail(file, pointer, "must be " + what + " (got " + format_number(x) + ")");
+  };
+  if (f.minimum)
+    bound(f.exclusive_minimum ? x > *f.minimum : x >= *f.minimum,
+          (f.exclusive_minimum ? "> " : ">= ") + format_number(*f.minimum));
+  if (f.maximum)
+    bound(f.exclusive_maximum ? x < *f.maximum : x <= *f.maximum,
+          (f.exclusive_maximum ? "< " : "<= ") + format_number(*f.maximum));
+}
+
+void check_vector3(const nlohmann::json& v, const std::string& file, const std::string& pointer) {
+  if (!v.is_array() || v.size() != 3) fail(file, pointer, "expected an array of 3 numbers");
+  for (std::size_t i = 0; i < 3; ++i)
+    if (!v[i].is_number() || !std::isfinite(v[i].get<double>()))
+      fail(file, pointer + "/" + std::to_string(i), "expected a finite number");
+}
+
+nlohmann::json validate(const Field& f, const nlohmann::json& v, const std::string& file,
+                        const std::string& pointer);
+nlohmann::json validate_object(const Field& f, const nlohmann::json& v, const std::string& file,
+                               const std::string& pointer);
+nlohmann::json fill_shape_defaults(const nlohmann::json& v, const std::string& file,
+                                   const std::string& pointer);
+
+// Shape kinds: primitives (objects with these members), a mesh file, or CSG lists.
+const std::vector<Field>& primitive_kinds() {
+  static const std::vector<Field> kinds = [] {
+    const nlohmann::json origin = nlohmann::json::array({0, 0, 0});
+    const nlohmann::json up = nlohmann::json::array({0, 1, 0});
+    auto required_vec = [](std::string name, std::string description) {
+      Field f = vector3(std::move(name), std::move(description), "m", nullptr);
+      f.required = true;
+      return f;
+    };
+    auto length = [](std::string name, std::string description) {
+      Field f = number(std::move(name), std::move(description), "m", nullptr, 0.0, true);
+      f.required = true;
+      return f;
+    };
+    return std::vector<Field>{
+        object("box", "Axis-aligned box",
+               {vector3("center", "Center", "m", origin), required_vec("size", "Edge lengths")}),
+        object("sphere", "Sphere",
+               {vector3("center", "Center", "m", origin), length("radius", "Radius")}),
+        object("cylinder", "Capped cylinder between two end-cap centers",
+               {required_vec("a", "First end-cap center"),
+                required_vec("b", "Second end-cap center"), length("radius", "Radius")}),
+        object("capsule", "Segment a-b swept by a sphere",
+               {required_vec("a", "Segment start"), required_vec("b", "Segment end"),
+                length("radius", "Radius")}),
+        object(
+            "torus", "Torus",
+            {vector3("center", "Center", "m", origin), vector3("axis", "Axis of symmetry", "", up),
+             length("major_radius", "Distance of the tube center from the axis"),
+             length("minor_radius", "Tube radius")}),
+    };
+  }();
+  return kinds;
+}
+
+const Field& transform_field() {
+  static const Field f = object(
+      "transform", "Optional rigid transform and uniform scale, applied scale-rotate-translate",
+      {vector3("translate", "Translation", "m", nlohmann::json::array({0, 0, 0})),
+       vector3("rotate_axis", "Rotation axis", "", nlohmann::json::array({0, 0, 1})),
+       number("rotate_degrees", "Rotation angle about the axis", "deg", 0.0),
+       number("scale", "Uniform scale factor", "", 1.0, 0.0, true)});
+  return f;
+}
+
+void check_shape(const nlohmann::json& v, const std::string& file, const std::string& pointer) {
+  static const std::vector<std::string> lists{"union", "difference", "intersection"};
+  if (!v.is_object())
+    fail(file, pointer, "expected a shape object, e.g. {\"sphere\": {\"radius\": 1}}");
+  std::vector<std::string> kinds;
+  for (const auto& [key, value] : v.items())
+    if (key != "transform") kinds.push_back(key);
+  if (kinds.size() != 1)
+    fail(file, pointer,
+         "a shape has exactly one of box, sphere, cylinder, capsule, torus, mesh, "
+         "union, difference, intersection (plus an optional transform)");
+  const std::string& kind = kinds.front();
+  const std::string at = pointer + "/" + kind;
+  if (v.contains("transform"))
+    validate_object(transform_field(), v["transform"], file, pointer + "/transform");
+  if (kind == "mesh") {
+    if (!v[kind].is_string()) fail(file, at, "expected a mesh file path (relative to the scene)");
+    return;
+  }
+  if (std::find(lists.begin(), lists.end(), kind) != lists.end()) {
+    const std::size_t least = kind == "union" ? 1 : 2;
+    if (!v[kind].is_array() || v[kind].size() < least)
+      fail(file, at, "expected an array of at least " + std::to_string(least) + " shapes");
+    for (std::size_t i = 0; i < v[kind].size(); ++i)
+      check_shape(v[kind][i], file, at + "/" + std::to_string(i));
+    return;
+  }
+  for (const Field& primitive : primitive_kinds()) {
+    if (primitive.name != kind) continue;
+    validate_object(primitive, v[kind], file, at);
+    return;
+  }
+  fail(file, at, "unknown shape kind '" + kind + "'");
+}
+
+nlohmann::json validate_object(const Field& f, const nlohmann::json& v, const std::string& file,
+                               const std::string& pointer) {
+  if (!v.is_object()) fail(file, pointer, "expected an object, got " + std::string(v.type_name()));
+  nlohmann::json result = nlohmann::json::object();
+  for (const auto& [key, value] : v.items()) {
+    bool known = false;
+    for (const Field& c : f.children) known = known || c.name == key;
+    if (!known) {
+      std::string expected;
+      for (const Field& c : f.children) expected += (expected.empty() ? "" : ", ") + c.name;
+      fail(file, pointer + "/" + key, "unknown key (expected one of: " + expected + ")");
+    }
+  }
+  for (const Field& c : f.children) {
+    const std::string child = pointer + "/" + c.name;
+    if (v.contains(c.name)) {
+      result[c.name] = validate(c, v[c.name], file, child);
+    } else if (c.required) {
+      fail(file, child, "missing required key");
+    } else {
+      result[c.name] = validate(c, c.default_value, file, child);
+    }
+  }
+  return result;
+}
+
+nlohmann::json validate(const Field& f, const nlohmann::json& v, const std::string& file,
+                        const std::string& pointer) {
+  switch (f.type) {
+    case FieldType::NUMBER:
+    case FieldType::INTEGER:
+      check_number(f, v, file, pointer);
+      return v;
+    case FieldType::BOOLEAN:
+      if (!v.is_boolean()) fail(file, pointer, "expected true or false");
+      return v;
+    case FieldType::STRING:
+      if (!v.is_string())
+        fail(file, pointer, "expected a string, got " + std::string(v.type_name()));
+      if (!f.choices.empty() &&
+          std::find(f.choices.begin(), f.choices.end(), v.get<std::string>()) == f.choices.end()) {
+        std::string allowed;
+        for (const auto& c : f.choices) allowed += (allowed.empty() ? "" : ", ") + c;
+        fail(file, pointer, "must be one of " + allowed + " (got '" + v.get<std::string>() + "')");
+      }
+      return v;
+    case FieldType::VECTOR3:
+      check_vector3(v, file, pointer);
+      return v;
+    case FieldType::SHAPE:
+      check_shape(v, file, pointer);
+      return fill_shape_defaults(v, file, pointer);
+    case FieldType::OBJECT:
+      return validate_object(f, v, file, pointer);
+    case FieldType::ARRAY: {
+      if (!v.is_array())
+        fail(file, pointer, "expected an array, got " + std::string(v.type_name()));
+      nlohmann::json result = nlohmann::json::array();
+      for (std::size_t i = 0; i < v.size(); ++i)
+        result.push_back(validate(f.children[0], v[i], file, pointer + "/" + std::to_string(i)));
+      return result;
+    }
+  }
+  return v;
+}
+
+// Copies a validated shape with the defaults of its primitive members filled in.
+nlohmann::json fill_shape_defaults(const nlohmann::json& v, const std::string& file,
+                                   const std::string& pointer) {
+  nlohmann::json result = v;
+  if (v.contains("transform"))
+    result["transform"] =
+        validate_object(transform_field(), v["transform"], file, pointer + "/transform");
+  for (const auto& [kind, value] : v.items()) {
+    if (kind == "transform") continue;
+    for (const Field& primitive : primitive_kinds())
+      if (primitive.name == kind)
+        result[kind] = validate_object(primitive, value, file, pointer + "/" + kind);
+    if (value.is_array())
+      for (std::size_t i = 0; i < value.size(); ++i)
+        result[kind][i] =
+            fill_shape_defaults(value[i], file, pointer + "/" + kind + "/" + std::to_string(i));
+  }
+  return result;
+}
+
+std::string type_name(const Field& f) {
+  switch (f.type) {
+    case FieldType::NUMBER:
+      return "number";
+    case FieldType::INTEGER:
+      return "integer";
+    case FieldType::STRING:
+      return f.choices.empty() ? "string" : "one of `" + [&] {
+        std::string s;
+        for (const auto& c : f.choices) s += (s.empty() ? "" : "`, `") + c;
+        return s;
+      }() + "`";
+    case FieldType::BOOLEAN:
+      return "boolean";
+    case FieldType::VECTOR3:
+      return "[x, y, z]";
+    case FieldType::OBJECT:
+      return "object";
+    case FieldType::ARRAY:
+      return "array";
+    case FieldType::SHAPE:
+      return "shape";
+  }
+  return "";
+}
+
+std::string range_text(const Field& f) {
+  std::string r;
+  if (f.minimum) r += (f.exclusive_minimum ? "> " : ">= ") + format_number(*f.minimum);
+  if (f.maximum)
+    r += (r.empty() ? "" : ", ") + std::string(f.exclusive_maximum ? "< " : "<= ") +
+         format_number(*f.maximum);
+  return r;
+}
+
+void markdown_rows(const Field& f, const std::string& prefix, std::ostringstream& out) {
+  for (const Field& c : f.children) {
+    const std::string key = prefix.empty() ? c.name : prefix + "." + c.name;
+    const std::string fallback = c.required
+                                     ? "required"
+                                     : (c.default_value.is_null() || c.type == FieldType::OBJECT
+                                            ? ""
+                                            : "`" + c.default_value.dump() + "`");
+    out << "| `" << (key.empty() ? "[]" : key) << "` | " << type_name(c) << " | " << c.unit << " | "
+        << range_text(c) << " | " << fallback << " | " << c.description << " |\n";
+    if (c.type == FieldType::OBJECT) markdown_rows(c, key, out);
+    if (c.type == FieldType::ARRAY && !c.children.empty() &&
+        c.children[0].type == FieldType::OBJECT)
+      markdown_rows(c.children[0], key + "[]", out);
+  }
+}
+
+}  // namespace
+
+std::string scene_format_markdown() {
+  std::ostringstream out;
+  out << "# Scene format\n\n"
+         "<!-- Generated by `mgelastic scene-format` from src/mgelastic/scene/schema.cpp; a test "
+         "checks that this page matches. -->\n\n"
+         "A scene is a JSON object. Unknown keys and wrong types are errors reported as "
+         "`scene.json: /json/pointer: reason` before any work starts; missing keys take the "
+         "defaults below. Units are SI.\n\n"
+         "| key | type | unit | range | default | description |\n|---|---|---|---|---|---|\n";
+  markdown_rows(scene_schema(), "", out);
+  out << "\n## Shapes\n\nA shape is an object with exactly one of the keys below, plus an "
+         "optional `transform`. `mesh` is a path to a closed triangle mesh (OBJ, STL, PLY, OFF) "
+         "relative to the scene file; `union`, `intersection` take a list of shapes, "
+         "`difference` subtracts the second and later shapes from the first.\n\n"
+         "| key | type | unit | range | default | description |\n|---|---|---|---|---|---|\n";
+  for (const Field& kind : primitive_kinds()) {
+    out << "| `" << kind.name << "` | object | | | | " << kind.description << " |\n";
+    markdown_rows(kind, kind.name, out);
+  }
+  out << "| `transform` | object | | | | " << transform_field().description << " |\n";
+  markdown_rows(transform_field(), "transform", out);
+  return out.str();
+}
+
+const Field& scene_schema() {
+  static const Field schema = build_schema();
+  return schema;
+}
+
+nlohmann::json validate_scene(const nlohmann::json& document, const std::string& file) {
+  return validate(scene_schema(), document, file, "");
+}
+
+}  // namespace mgelastic::scene

@@ -1,0 +1,99 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "mgelastic/core/error.hpp"
+#include "mgelastic/scene/scene.hpp"
+#include "mgelastic/scene/schema.hpp"
+
+namespace mgelastic::scene {
+namespace {
+
+nlohmann::json minimal() {
+  return nlohmann::json::parse(R"({"geometry": {"sphere": {"radius": 0.5}}})");
+}
+
+std::string error_of(const nlohmann::json& document) {
+  try {
+    parse_scene(document, "scene.json", ".");
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Scene, MinimalSceneGetsDocumentedDefaults) {
+  const Scene s = parse_scene(minimal(), "scene.json", ".");
+  EXPECT_EQ(s.engine, "grid");
+  EXPECT_EQ(s.resolution, 64);
+  EXPECT_DOUBLE_EQ(s.poisson_ratio, 0.45);
+  EXPECT_DOUBLE_EQ(s.gravity.y(), -9.81);
+  EXPECT_EQ(s.precision, "float");
+  EXPECT_EQ(s.formats, (std::vector<std::string>{"vtk", "obj"}));
+  EXPECT_DOUBLE_EQ(s.geometry["sphere"]["center"][0].get<double>(), 0.0);  // primitive default
+}
+
+TEST(Scene, UnknownKeyIsNamedByPointer) {
+  auto d = minimal();
+  d["grid"] = {{"cellsize", 0.1}};
+  EXPECT_EQ(
+      error_of(d),
+      "scene.json: /grid/cellsize: unknown key (expected one of: cell_size, resolution, padding)");
+}
+
+TEST(Scene, WrongTypeIsNamedByPointer) {
+  auto d = minimal();
+  d["material"] = {{"youngs_modulus", "soft"}};
+  EXPECT_EQ(error_of(d), "scene.json: /material/youngs_modulus: expected a number, got string");
+}
+
+TEST(Scene, OutOfRangeValueIsNamedWithTheValue) {
+  auto d = minimal();
+  d["material"] = {{"poisson_ratio", 0.5}};
+  EXPECT_EQ(error_of(d), "scene.json: /material/poisson_ratio: must be < 0.5 (got 0.5)");
+}
+
+TEST(Scene, MissingGeometryIsReported) {
+  EXPECT_EQ(error_of(nlohmann::json::object()), "scene.json: /geometry: missing required key");
+}
+
+TEST(Scene, ShapeErrorsPointIntoTheShapeTree) {
+  auto d = minimal();
+  d["constraints"] = nlohmann::json::parse(
+      R"([{"region": {"union": [{"box": {"size": [1, 1, 1]}}, {"sphere": {"radius": -1}}]}}])");
+  EXPECT_EQ(error_of(d),
+            "scene.json: /constraints/0/region/union/1/sphere/radius: must be > 0 (got -1)");
+  d["geometry"] = nlohmann::json::parse(R"({"sphere": {"radius": 1}, "box": {"size": [1, 1, 1]}})");
+  EXPECT_NE(error_of(d).find("/geometry: a shape has exactly one of"), std::string::npos);
+}
+
+TEST(Scene, InvalidJsonNamesTheLine) {
+  const auto path = std::filesystem::temp_directory_path() / "mgelastic_bad_scene.json";
+  std::ofstream(path) << "{\n  \"geometry\": {\"sphere\": {\"radius\": 1}},\n  \"grid\": {,}\n}\n";
+  try {
+    load_scene(path);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(path.string() + ":3: invalid JSON"), std::string::npos)
+        << e.what();
+  }
+  std::filesystem::remove(path);
+}
+
+TEST(Scene, MissingFileIsReported) {
+  EXPECT_THROW(load_scene("/nonexistent/scene.json"), Error);
+}
+
+// docs/scene-format.md is generated from the schema; regenerate with
+// `mgelastic scene-format > docs/scene-format.md` when the schema changes.
+TEST(Scene, FormatPageMatchesTheSchema) {
+  std::ifstream in(std::filesystem::path(MGELASTIC_SOURCE_DIR) / "docs" / "scene-format.md");
+  ASSERT_TRUE(in) << "docs/scene-format.md is missing";
+  std::stringstream page;
+  page << in.rdbuf();
+  EXPECT_EQ(page.str(), scene_format_markdown());
+}
+
+}  // namespace
+}  // namespace mgelastic::scene
