@@ -362,13 +362,14 @@ std::string range_text(const Field& f) {
 void markdown_rows(const Field& f, const std::string& prefix, std::ostringstream& out) {
   for (const Field& c : f.children) {
     const std::string key = prefix.empty() ? c.name : prefix + "." + c.name;
-    const std::string fallback = c.required
-                                     ? "required"
-                                     : (c.default_value.is_null() || c.type == FieldType::OBJECT
-                                            ? ""
-                                            : "`" + c.default_value.dump() + "`");
     out << "| `" << (key.empty() ? "[]" : key) << "` | " << type_name(c) << " | " << c.unit << " | "
-        << range_text(c) << " | " << fallback << " | " << c.description << " |\n";
+        << range_text(c) << " | ";
+    if (c.required) {
+      out << "required";
+    } else if (!c.default_value.is_null() && c.type != FieldType::OBJECT) {
+      out << '`' << c.default_value.dump() << '`';
+    }
+    out << " | " << c.description << " |\n";
     if (c.type == FieldType::OBJECT) markdown_rows(c, key, out);
     if (c.type == FieldType::ARRAY && !c.children.empty() &&
         c.children[0].type == FieldType::OBJECT)
