@@ -1,1 +1,0 @@
-// Placeholder until the io module's first files land.
