@@ -9,6 +9,7 @@
 #include "mgelastic/grid/cg_baseline.hpp"
 #include "mgelastic/grid/convergence_rate.hpp"
 #include "mgelastic/grid/disc_study.hpp"
+#include "mgelastic/grid/hypre_baseline.hpp"
 #include "mgelastic/grid/multigrid.hpp"
 #include "mgelastic/grid/nonaugmented_system.hpp"
 
@@ -92,7 +93,19 @@ nlohmann::json cg(const BoxBenchOptions& o) {
   // The multigrid solver on the same problem and tolerance, side by side in the same run.
   grid::Multigrid<Dim, double> solver(problem, multigrid_options(o));
   const grid::SolveReport mg_report = solver.solve(o.tolerance, 200);
+  // hypre BoomerAMG-PCG on the same matrix (when configured with hypre).
+  std::vector<int> component(system.u_variables.size());
+  for (std::size_t i = 0; i < component.size(); ++i)
+    component[i] = static_cast<int>(system.u_variables[i] / mg.finest().size());
+  Eigen::VectorXd hypre_u;
+  const grid::HypreReport hypre =
+      grid::boomeramg_pcg(a, rhs, component, Dim, o.tolerance, 2000, hypre_u);
   return {{"benchmark", "cg"},
+          {"hypre_available", hypre.available},
+          {"hypre_iterations", hypre.iterations},
+          {"hypre_setup_seconds", hypre.setup_seconds},
+          {"hypre_solve_seconds", hypre.solve_seconds},
+          {"hypre_converged", hypre.converged},
           {"multigrid_cycles", mg_report.cycles()},
           {"multigrid_seconds", mg_report.seconds},
           {"multigrid_converged", mg_report.converged},
@@ -136,6 +149,12 @@ void print_cg(const nlohmann::json& r) {
               r["iterations"].get<int>(), r["tolerance"].get<double>(),
               r["converged"].get<bool>() ? "converged" : "NOT converged",
               r["seconds"].get<double>());
+  if (r["hypre_available"].get<bool>()) {
+    std::printf("hypre:     %5d BoomerAMG-PCG iterations (%s), %.3f s setup + %.3f s solve\n",
+                r["hypre_iterations"].get<int>(),
+                r["hypre_converged"].get<bool>() ? "converged" : "NOT converged",
+                r["hypre_setup_seconds"].get<double>(), r["hypre_solve_seconds"].get<double>());
+  }
   std::printf("multigrid: %5d V(1,1) cycles to the same tolerance (%s), %.3f s\n",
               r["multigrid_cycles"].get<int>(),
               r["multigrid_converged"].get<bool>() ? "converged" : "NOT converged",
