@@ -1,15 +1,20 @@
 #!/usr/bin/env bash
-# CG on the non-augmented system (the paper's Fig. 11 baseline) next to multigrid, both to a
-# relative residual of 1e-6 in the same run, on the 3D mixed box.
-# Usage: scripts/bench/cg_table.sh [path/to/mgelastic]
+# Baselines side by side in one run, all to a relative residual of 1e-6 on the 3D mixed box:
+# unpreconditioned CG (the paper's Fig. 11), hypre BoomerAMG-PCG on the same non-augmented
+# matrix, and mgelastic's V(1,1) multigrid.
+# Usage: scripts/bench/cg_table.sh [path/to/mgelastic] [sizes...]
 set -euo pipefail
 bin="${1:-build/release/app/mgelastic}"
-printf '| N | nu | unknowns | CG iterations | CG s | V-cycles | multigrid s |\n|---|---|---|---|---|---|---|\n'
-for n in 32 64; do
+shift || true
+sizes=("${@:-32 64}")
+printf '| N | nu | unknowns | CG it | CG s | hypre it | hypre s (setup+solve) | V-cycles | mgelastic s |\n'
+printf '|---|---|---|---|---|---|---|---|---|\n'
+for n in ${sizes[@]}; do
   for nu in 0.3 0.49; do
     "$bin" bench cg --dim 3 --n "$n" --poisson "$nu" --json | python3 -c '
 import json, sys
 d = json.load(sys.stdin)
-print("| %d | %.2f | %d | %d | %.2f | %d | %.2f |" % (d["n"], d["poisson"], d["unknowns"], d["iterations"], d["seconds"], d["multigrid_cycles"], d["multigrid_seconds"]))'
+hy = ("%d" % d["hypre_iterations"], "%.2f" % (d["hypre_setup_seconds"] + d["hypre_solve_seconds"])) if d["hypre_available"] else ("n/a", "n/a")
+print("| %d | %.2f | %d | %d | %.2f | %s | %s | %d | %.2f |" % (d["n"], d["poisson"], d["unknowns"], d["iterations"], d["seconds"], hy[0], hy[1], d["multigrid_cycles"], d["multigrid_seconds"]))'
   done
 done
