@@ -37,19 +37,27 @@ std::uint32_t RowBuilder<Dim>::p(std::ptrdiff_t k) const {
   return u(Dim, k);
 }
 
+// Where the traction condition fixing P_ii (and F_ii) of `cell` holds: the center of its face
+// toward an exterior neighbor along e_i (the cell center for a one-cell-thin feature), or none.
+template <int Dim>
+std::optional<Vec<Dim>> RowBuilder<Dim>::traction_face(int i, std::ptrdiff_t cell) const {
+  const std::ptrdiff_t si = m_lattice.stride(i);
+  const bool lower_exterior = exterior(cell - si);
+  const bool upper_exterior = exterior(cell + si);
+  if (lower_exterior && upper_exterior) return m_lattice.cell_center(cell);
+  if (lower_exterior) return m_lattice.face_center(i, cell);
+  if (upper_exterior) return m_lattice.face_center(i, cell + si);
+  return std::nullopt;
+}
+
 // weight * P_ii(cell), P_ii = 2 mu (u_i[cell + s_i] - u_i[cell]) / h - mu p[cell].
 template <int Dim>
 void RowBuilder<Dim>::add_normal_stress(int i, std::ptrdiff_t cell, double weight,
                                         ExplicitRow& row) const {
   const std::ptrdiff_t si = m_lattice.stride(i);
-  const bool lower_exterior = exterior(cell - si);
-  const bool upper_exterior = exterior(cell + si);
-  if (lower_exterior || upper_exterior) {
+  if (const auto where = traction_face(i, cell)) {
     // Boundary stress: the traction condition on the exterior face fixes its value.
-    Vec<Dim> where =
-        lower_exterior ? m_lattice.face_center(i, cell) : m_lattice.face_center(i, cell + si);
-    if (lower_exterior && upper_exterior) where = m_lattice.cell_center(cell);
-    row.constant += weight * sigma(i, i, where);
+    row.constant += weight * sigma(i, i, *where);
     return;
   }
   const double h = m_lattice.h;
@@ -97,14 +105,9 @@ ExplicitRow RowBuilder<Dim>::pressure(std::ptrdiff_t k) const {
   const double h = m_lattice.h;
   for (int i = 0; i < Dim; ++i) {
     const std::ptrdiff_t si = m_lattice.stride(i);
-    const bool lower_exterior = exterior(k - si);
-    const bool upper_exterior = exterior(k + si);
-    if (lower_exterior || upper_exterior) {
+    if (const auto where = traction_face(i, k)) {
       // Boundary gradient: mu F_ii = (sigma + mu p) / 2 from the traction condition.
-      Vec<Dim> where =
-          lower_exterior ? m_lattice.face_center(i, k) : m_lattice.face_center(i, k + si);
-      if (lower_exterior && upper_exterior) where = m_lattice.cell_center(k);
-      row.constant += 0.5 * sigma(i, i, where);
+      row.constant += 0.5 * sigma(i, i, *where);
       row.pressure_extra += 0.5 * m_mu;
       continue;
     }

@@ -9,6 +9,7 @@
 // the pressure diagonal (`pressure_extra`) and sigma/2 to `constant`.
 // Variables are global indices (field * lattice.size() + k); Dirichlet variables stay as terms.
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "mgelastic/grid/level.hpp"
@@ -37,6 +38,7 @@ class RowBuilder {
  private:
   bool exterior(std::ptrdiff_t cell) const { return m_cells[cell] == CellType::EXTERIOR; }
   double sigma(int i, int j, const Vec<Dim>& x) const { return m_sigma ? m_sigma(i, j, x) : 0.0; }
+  std::optional<Vec<Dim>> traction_face(int i, std::ptrdiff_t cell) const;
   std::uint32_t u(int axis, std::ptrdiff_t k) const;
   std::uint32_t p(std::ptrdiff_t k) const;
   void add_normal_stress(int i, std::ptrdiff_t cell, double weight, ExplicitRow& row) const;
