@@ -67,6 +67,8 @@ nlohmann::json convergence(const BoxBenchOptions& o) {
           {"rate", grid::convergence_rate(report.residuals, floor)},
           {"solve_seconds", report.seconds},
           {"vcycle_seconds", report.seconds / std::max(1, report.cycles())},
+          {"working_set_bytes", mg.bytes()},
+          {"threads", thread_count()},
           {"phase_seconds",
            {{"boundary_smoothing", phases.boundary_smoothing},
             {"interior_smoothing", phases.interior_smoothing},
@@ -216,6 +218,51 @@ void run_disc_accuracy(bool json) {
               << "\n";
 }
 
+// Fig. 22/23-style profile: seconds per subroutine and per V-cycle on the mixed box.
+void run_vcycle_profile(const std::vector<int>& sizes, const std::vector<int>& threads,
+                        const BoxBenchOptions& base) {
+  static const char* phases[] = {
+      "boundary_smoothing", "interior_smoothing", "residual", "restriction",
+      "prolongation",       "coarse_solve",       "other"};
+  nlohmann::json records = nlohmann::json::array();
+  for (int n : sizes) {
+    for (int t : threads) {
+      BoxBenchOptions o = base;
+      o.n = n;
+      set_thread_count(t);
+      nlohmann::json r = run_convergence(o);
+      records.push_back(r);
+    }
+  }
+  set_thread_count(0);
+  if (base.json) {
+    std::cout << nlohmann::json{{"benchmark", "vcycle"}, {"runs", records}}.dump(2) << "\n";
+    return;
+  }
+  std::printf("V(1,1) profile, 3D mixed box, nu=%.3g, %s, %d cycles: seconds per V-cycle\n\n",
+              base.poisson, base.precision.c_str(), base.cycles);
+  std::printf("%-20s", "subroutine");
+  for (const auto& r : records)
+    std::printf(" | %4d^3 %dT", r["n"].get<int>(), r["threads"].get<int>());
+  std::printf("\n");
+  for (const char* phase : phases) {
+    std::printf("%-20s", phase);
+    for (const auto& r : records)
+      std::printf(" | %9.4f",
+                  r["phase_seconds"][phase].get<double>() / (r["residuals"].size() - 1.0));
+    std::printf("\n");
+  }
+  std::printf("%-20s", "total per V-cycle");
+  for (const auto& r : records) std::printf(" | %9.4f", r["vcycle_seconds"].get<double>());
+  std::printf("\n%-20s", "rate");
+  for (const auto& r : records) std::printf(" | %9.3f", r["rate"].get<double>());
+  std::printf("\n%-20s", "working set (MB)");
+  for (const auto& r : records) std::printf(" | %9.1f", r["working_set_bytes"].get<double>() / 1e6);
+  std::printf("\n%-20s", "levels");
+  for (const auto& r : records) std::printf(" | %9d", r["levels"].get<int>());
+  std::printf("\n");
+}
+
 void register_bench_commands(CLI::App& app) {
   CLI::App* bench = app.add_subcommand("bench", "Solver benchmarks");
   bench->require_subcommand(1);
@@ -236,6 +283,21 @@ void register_bench_commands(CLI::App& app) {
       print_convergence(result);
     }
   });
+  static BoxBenchOptions profile_options;
+  static std::vector<int> profile_sizes{32, 64, 128}, profile_threads{1, 2};
+  profile_options.poisson = 0.48;
+  profile_options.precision = "float";
+  profile_options.cycles = 10;
+  CLI::App* vcycle = bench->add_subcommand(
+      "vcycle", "Seconds per subroutine and per V-cycle (paper Figs. 22-23) on the mixed box");
+  vcycle->add_option("--sizes", profile_sizes, "Cells per axis (3D)");
+  vcycle->add_option("--threads", profile_threads, "Thread counts to compare");
+  vcycle->add_option("--poisson", profile_options.poisson, "Poisson ratio");
+  vcycle->add_option("--precision", profile_options.precision, "float or double");
+  vcycle->add_option("--cycles", profile_options.cycles, "V-cycles per run");
+  vcycle->add_option("--cycle", profile_options.cycle, "V or W");
+  vcycle->add_flag("--json", profile_options.json, "Print JSON instead of a table");
+  vcycle->callback([] { run_vcycle_profile(profile_sizes, profile_threads, profile_options); });
   static bool disc_json = false;
   CLI::App* disc = bench->add_subcommand(
       "disc-accuracy", "The paper's embedded disc accuracy study (Sec. 9.2), nu = 0.2 and 0.49");

@@ -466,6 +466,29 @@ std::size_t Level<Dim, Scalar>::interior_unknowns() const {
   return count;
 }
 
+template <typename T>
+std::size_t vector_bytes(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
+template <int Dim, typename Scalar>
+std::size_t Level<Dim, Scalar>::bytes() const {
+  std::size_t total = vector_bytes(cells);
+  for (int f = 0; f <= Dim; ++f)
+    total += vector_bytes(x[f]) + vector_bytes(b[f]) + vector_bytes(r[f]) + vector_bytes(kind[f]) +
+             vector_bytes(relaxation[f]);
+  for (const auto* rows : {&band_u, &band_p})
+    total += vector_bytes(rows->target) + vector_bytes(rows->start) + vector_bytes(rows->column) +
+             vector_bytes(rows->value) + vector_bytes(rows->constant) +
+             vector_bytes(rows->target_field) + vector_bytes(rows->column_field) +
+             vector_bytes(rows->target_index) + vector_bytes(rows->column_index);
+  total += vector_bytes(band_u_schur_diagonal) + vector_bytes(band_u_pressure) +
+           vector_bytes(band_u_pressure_factor) + vector_bytes(band_p_extra) +
+           vector_bytes(band_p_inverse) + vector_bytes(band_blocks) +
+           vector_bytes(band_block_inverse) + vector_bytes(band_point_rows);
+  return total;
+}
+
 template <int Dim, typename Scalar>
 Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType> cells,
                                const Material& material, const BoundaryStress<Dim>& sigma,

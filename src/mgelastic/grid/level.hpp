@@ -129,6 +129,7 @@ struct Level {
     return x[global_index / size()][global_index % size()];
   }
   std::size_t interior_unknowns() const;  // interior u and p variables
+  std::size_t bytes() const;              // memory held by the level's arrays
 };
 
 // Builds a level: classifies variables, picks distributive vs band relaxation, builds the band

@@ -90,6 +90,13 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
 }
 
 template <int Dim, typename Scalar>
+std::size_t Multigrid<Dim, Scalar>::bytes() const {
+  std::size_t total = m_solution ? m_solution->bytes() : 0;
+  for (const auto& level : m_levels) total += level.bytes();
+  return total;
+}
+
+template <int Dim, typename Scalar>
 double Multigrid<Dim, Scalar>::solution(int field, std::ptrdiff_t k) const {
   return m_solution ? m_solution->x[field][k] : static_cast<double>(m_levels.front().x[field][k]);
 }

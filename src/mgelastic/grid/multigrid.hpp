@@ -70,6 +70,8 @@ class Multigrid {
   double solution(int field, std::ptrdiff_t k) const;
   std::size_t unknowns() const { return m_levels.front().interior_unknowns(); }
   int boundary_sweeps() const { return m_boundary_sweeps; }
+  // Memory of all levels' arrays (the working set of a cycle, without the coarse factor).
+  std::size_t bytes() const;
   const PhaseSeconds& phase_seconds() const { return m_phases; }
 
  private:
