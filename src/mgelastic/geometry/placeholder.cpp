@@ -1,1 +1,0 @@
-// Placeholder until the geometry module's first files land.

@@ -1,0 +1,82 @@
+#include "mgelastic/geometry/voxelization.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "mgelastic/core/error.hpp"
+
+namespace mgelastic::geometry {
+namespace {
+
+bool cell_overlaps(const Shape& shape, const Point& center, double h) {
+  const double d = shape.signed_distance(center);
+  if (d <= 0.0) return true;
+  if (d > 0.5 * std::sqrt(3.0) * h) return false;
+  constexpr int samples = 4;
+  for (int k = 0; k < samples; ++k)
+    for (int j = 0; j < samples; ++j)
+      for (int i = 0; i < samples; ++i) {
+        // Points strictly inside the cell: touching a face or an edge is not overlapping.
+        const Point offset =
+            ((Eigen::Vector3d(i, j, k).array() + 0.5) / samples - 0.5).matrix() * h;
+        if (shape.signed_distance(center + offset) <= 0.0) return true;
+      }
+  return false;
+}
+
+void dilate(VoxelGrid& grid) {
+  std::vector<std::uint8_t> result = grid.occupied;
+  const auto& n = grid.dims;
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i) {
+        if (!grid.occupied[grid.index(i, j, k)]) continue;
+        for (int dk = -1; dk <= 1; ++dk)
+          for (int dj = -1; dj <= 1; ++dj)
+            for (int di = -1; di <= 1; ++di) {
+              const int a = i + di, b = j + dj, c = k + dk;
+              if (a >= 0 && b >= 0 && c >= 0 && a < n[0] && b < n[1] && c < n[2])
+                result[grid.index(a, b, c)] = 1;
+            }
+      }
+  grid.occupied = std::move(result);
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> overlapping_cells(const VoxelGrid& grid, const Shape& region) {
+  std::vector<std::uint8_t> mask(static_cast<std::size_t>(grid.dims.prod()), 0);
+  const auto& n = grid.dims;
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i)
+        mask[grid.index(i, j, k)] =
+            cell_overlaps(region, grid.cell_center(i, j, k), grid.cell_size);
+  return mask;
+}
+
+VoxelGrid voxelize(const Shape& body, const VoxelizeOptions& options) {
+  const BoundingBox box = body.bounding_box();
+  if (box.isEmpty())
+    throw Error("the shape is empty (bounding box has no volume)", {.pointer = "geometry"});
+  const Point extent = box.sizes();
+  VoxelGrid grid;
+  grid.cell_size =
+      options.cell_size > 0 ? options.cell_size : extent.maxCoeff() / options.resolution;
+  if (!(grid.cell_size > 0 && std::isfinite(grid.cell_size)))
+    throw Error("cannot derive a positive cell size", {.pointer = "grid"});
+  const int border = options.margin + options.padding;
+  for (int a = 0; a < 3; ++a)
+    grid.dims[a] = static_cast<int>(std::ceil(extent[a] / grid.cell_size - 1e-9)) + 2 * border;
+  if (static_cast<double>(grid.dims.prod()) > 2.0e9)
+    throw Error("the lattice would have " + std::to_string(static_cast<double>(grid.dims.prod())) +
+                    " cells; increase the cell size",
+                {.pointer = "grid"});
+  grid.origin = box.min() - Point::Constant(border * grid.cell_size);
+  grid.occupied = overlapping_cells(grid, body);
+  for (int layer = 0; layer < options.padding; ++layer) dilate(grid);
+  return grid;
+}
+
+}  // namespace mgelastic::geometry

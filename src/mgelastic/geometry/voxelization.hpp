@@ -1,0 +1,41 @@
+#pragma once
+// Voxelization of a solid (Sec. 5.1): a cell is occupied when it OVERLAPS the body. With the
+// signed distance d (a lower bound of the true distance for CSG): the cell overlaps when
+// d(center) <= 0; it cannot overlap when d(center) > half the cell diagonal; in between, it
+// overlaps when d <= 0 at one of 4^3 sample points strictly inside the cell (cells that only
+// touch the body along a face, edge or corner do not overlap it).
+// Optional padding dilates the occupied set by whole layers (26-neighborhood, Sec. 9.2), and a
+// margin of empty cells surrounds everything.
+#include <cstdint>
+#include <vector>
+
+#include "mgelastic/geometry/shape.hpp"
+
+namespace mgelastic::geometry {
+
+struct VoxelGrid {
+  Point origin = Point::Zero();  // min corner of cell (0, 0, 0)
+  double cell_size = 1;
+  Eigen::Vector3i dims = Eigen::Vector3i::Zero();
+  std::vector<std::uint8_t> occupied;  // x fastest
+  std::size_t index(int i, int j, int k) const {
+    return (static_cast<std::size_t>(k) * dims[1] + j) * dims[0] + i;
+  }
+  Point cell_center(int i, int j, int k) const {
+    return origin + cell_size * (Eigen::Vector3d(i, j, k).array() + 0.5).matrix();
+  }
+};
+
+struct VoxelizeOptions {
+  double cell_size = 0;  // used when > 0
+  int resolution = 64;   // otherwise: cells along the longest bounding-box axis
+  int padding = 0;
+  int margin = 1;
+};
+
+VoxelGrid voxelize(const Shape& body, const VoxelizeOptions& options);
+
+// Cells of `grid` that overlap `region` (same rule as voxelize).
+std::vector<std::uint8_t> overlapping_cells(const VoxelGrid& grid, const Shape& region);
+
+}  // namespace mgelastic::geometry
