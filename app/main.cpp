@@ -4,8 +4,9 @@
 
 #include "bench_command.hpp"
 #include "demo_command.hpp"
-#include "scene_commands.hpp"
 #include "mgelastic/core/error.hpp"
+#include "run_command.hpp"
+#include "scene_commands.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"mgelastic: multigrid simulation of elastic solids"};
@@ -16,6 +17,7 @@ int main(int argc, char** argv) {
   mgelastic::app::register_bench_commands(app);
   mgelastic::app::register_demo_command(app);
   mgelastic::app::register_scene_commands(app);
+  mgelastic::app::register_run_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

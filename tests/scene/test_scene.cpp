@@ -97,3 +97,61 @@ TEST(Scene, FormatPageMatchesTheSchema) {
 
 }  // namespace
 }  // namespace mgelastic::scene
+
+#include "mgelastic/scene/build_shape.hpp"
+#include "mgelastic/scene/grid_setup.hpp"
+
+namespace mgelastic::scene {
+namespace {
+
+Scene bar_scene() {
+  return parse_scene(nlohmann::json::parse(R"({
+    "geometry": {"difference": [{"box": {"size": [1, 0.25, 0.25]}},
+                                {"cylinder": {"a": [0, -1, 0], "b": [0, 1, 0], "radius": 0.12}}]},
+    "grid": {"resolution": 16},
+    "constraints": [{"region": {"box": {"center": [-0.5, 0, 0], "size": [0.1, 1, 1]}}}]
+  })"),
+                     "bar.json", ".");
+}
+
+TEST(GridSetup, VoxelizesTheBodyAndMarksConstraintCells) {
+  const GridSetup setup = build_grid_setup(bar_scene());
+  EXPECT_GT(setup.interior_cells, 16u * 4 * 4 / 2);
+  EXPECT_GT(setup.dirichlet_cells, 0u);
+  // The drilled hole at the center is exterior: the cell at the bar's center is not interior.
+  const auto& p = setup.problem;
+  const grid::Vec<3> center(0.01, 0.01, 0.01);
+  const grid::IVec<3> s =
+      ((center - p.lattice.origin) / p.lattice.h).cast<int>() + grid::IVec<3>::Ones();
+  EXPECT_EQ(p.cells[p.lattice.index(s)], grid::CellType::EXTERIOR);
+  EXPECT_NEAR(p.body_force(center).y(), -9.81 * 1000, 1e-9);
+}
+
+TEST(GridSetup, RegionSelectingNothingIsAnError) {
+  Scene s = bar_scene();
+  s.constraints[0].region =
+      nlohmann::json::parse(R"({"sphere": {"center": [5, 5, 5], "radius": 0.1}})");
+  try {
+    build_grid_setup(s);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "bar.json: /constraints/0/region: the region selects no cell of the body at this "
+              "resolution");
+  }
+}
+
+TEST(BuildShape, GeometryParameterErrorsNameTheScenePointer) {
+  const auto spec =
+      nlohmann::json::parse(R"({"cylinder": {"a": [0, 0, 0], "b": [0, 0, 0], "radius": 1}})");
+  try {
+    build_shape(spec, ".", "s.json", "/geometry");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("s.json: /geometry/cylinder/b - a"), std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace mgelastic::scene
