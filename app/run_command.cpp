@@ -62,7 +62,8 @@ void solve_and_write(const scene::Scene& s, const scene::GridSetup& setup,
   const double hierarchy_seconds = timer.seconds();
   std::printf("hierarchy: %d levels, %zu unknowns (%.2f s)\n", mg.levels(), mg.unknowns(),
               hierarchy_seconds);
-  const grid::SolveReport report = mg.solve(s.tolerance, s.max_vcycles);
+  const grid::SolveReport report = s.accelerate ? mg.solve_accelerated(s.tolerance, s.max_vcycles)
+                                                : mg.solve(s.tolerance, s.max_vcycles);
   for (std::size_t k = 1; k < report.residuals.size(); ++k)
     std::printf("  cycle %3zu  residual %.3e  ratio %.3f\n", k, report.residuals[k],
                 report.residuals[k] / report.residuals[k - 1]);
@@ -76,11 +77,12 @@ void solve_and_write(const scene::Scene& s, const scene::GridSetup& setup,
   const auto& ph = mg.phase_seconds();
   std::printf(
       "summary: %zu interior + %zu Dirichlet cells (lattice %d x %d x %d, h = %.4g m), %d levels, "
-      "%d %s-cycles, relative residual %.2e\n"
+      "%d %s-cycles%s, relative residual %.2e\n"
       "time: setup %.2f s, hierarchy %.2f s, solve %.2f s (boundary %.2f, interior %.2f, residual "
       "%.2f, transfers %.2f, coarse %.2f), output %.2f s\n",
       setup.interior_cells, setup.dirichlet_cells, setup.voxels.dims[0], setup.voxels.dims[1],
       setup.voxels.dims[2], setup.voxels.cell_size, mg.levels(), report.cycles(), s.cycle.c_str(),
+      s.accelerate ? " (FGMRES-accelerated)" : "",
       report.residuals.back() / report.residuals.front(), setup_seconds, hierarchy_seconds,
       report.seconds, ph.boundary_smoothing, ph.interior_smoothing, ph.residual,
       ph.restriction + ph.prolongation, ph.coarse_solve, output_seconds);

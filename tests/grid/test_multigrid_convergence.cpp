@@ -90,3 +90,32 @@ TEST(ConvergenceRate, GeometricMeanOfLastFiveRatiosAboveFloor) {
 
 }  // namespace
 }  // namespace mgelastic::grid
+
+namespace mgelastic::grid {
+namespace {
+
+// FGMRES with one cycle per iteration reaches the same solution as plain cycles, in no more
+// cycles, in both precisions.
+TEST(MultigridSolve, AcceleratedSolveMatchesPlainCycles) {
+  BoxSpec spec;
+  spec.cells = 16;
+  spec.poisson_ratio = 0.45;
+  Multigrid<3, double> plain(make_box_problem<3>(spec));
+  const SolveReport reference = plain.solve(1e-11, 60);
+  Multigrid<3, double> accelerated(make_box_problem<3>(spec));
+  const SolveReport report = accelerated.solve_accelerated(1e-11, 60);
+  ASSERT_TRUE(reference.converged && report.converged);
+  EXPECT_LE(report.cycles(), reference.cycles());
+  double difference = 0, norm = 0;
+  for (int f = 0; f < 3; ++f)
+    for (std::size_t k = 0; k < plain.finest().size(); ++k) {
+      difference += std::pow(plain.solution(f, k) - accelerated.solution(f, k), 2);
+      norm += std::pow(plain.solution(f, k), 2);
+    }
+  EXPECT_LE(std::sqrt(difference), 1e-8 * std::sqrt(norm));
+  Multigrid<3, float> single(make_box_problem<3>(spec));
+  EXPECT_TRUE(single.solve_accelerated(1e-8, 60).converged);
+}
+
+}  // namespace
+}  // namespace mgelastic::grid

@@ -61,6 +61,11 @@ class Multigrid {
   // Cycles until residual <= tolerance * initial residual or max_cycles; throws on NaN/Inf.
   SolveReport solve(double relative_tolerance, int max_cycles);
   SolveReport run_cycles(int cycles);
+  // Flexible GMRES(restart) on the augmented system, preconditioned by one cycle per iteration
+  // (multigrid_fgmres.cpp): robust where a few error modes converge slowly (slender embedded
+  // bodies). `residuals` holds the true residual before, the estimates during, and the true
+  // residual after the solve; each entry after the first costs one cycle.
+  SolveReport solve_accelerated(double relative_tolerance, int max_cycles, int restart = 10);
 
   int levels() const { return static_cast<int>(m_levels.size()); }
   Level<Dim, Scalar>& level(int l) { return m_levels[l]; }
@@ -77,6 +82,7 @@ class Multigrid {
  private:
   void smooth(int l);
   void cycle_correction();
+  Level<Dim, double>& solution_level();
   void correct(int level);
   template <typename T>
   void set_right_hand_side(const ElasticityProblem<Dim>& problem, Level<Dim, T>& level);

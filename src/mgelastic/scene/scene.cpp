@@ -45,6 +45,7 @@ Scene parse_scene(const nlohmann::json& document, const std::string& file,
   s.precision = d["solver"]["precision"];
   s.cycle = d["solver"]["cycle"];
   s.boundary_sweeps = d["solver"]["boundary_sweeps"];
+  s.accelerate = d["solver"]["accelerate"];
   s.output_dir = d["output"]["dir"];
   for (const auto& f : d["output"]["formats"]) s.formats.push_back(f);
   return s;

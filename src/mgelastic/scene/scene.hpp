@@ -35,6 +35,7 @@ struct Scene {
   int max_vcycles = 50;
   std::string precision = "float", cycle = "V";
   int boundary_sweeps = 0;
+  bool accelerate = true;
   std::string output_dir = "out";
   std::vector<std::string> formats;
 };

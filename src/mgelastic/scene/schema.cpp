@@ -85,15 +85,19 @@ Field build_schema() {
                        {vector3("gravity", "Gravitational acceleration", "m/s^2",
                                 nlohmann::json::array({0, -9.81, 0})),
                         array("tractions", "Surface tractions", traction)});
-  Field solver =
-      object("solver", "Multigrid solver",
-             {number("tolerance", "Relative residual to reach", "", 1e-6, 0.0, true, 1.0, true),
-              integer("max_vcycles", "Cycle limit", 50, 1),
-              choice("precision", "Arithmetic of the cycles (float runs mixed precision)", "float",
-                     {"float", "double"}),
-              choice("cycle", "V (Algorithm 1) or W cycles", "V", {"V", "W"}),
-              integer("boundary_sweeps",
-                      "Band Gauss-Seidel sweeps per pass; 0 = paper default for nu", 0, 0)});
+  Field solver = object(
+      "solver", "Multigrid solver",
+      {number("tolerance", "Relative residual to reach", "", 1e-6, 0.0, true, 1.0, true),
+       integer("max_vcycles", "Cycle limit", 50, 1),
+       choice("precision", "Arithmetic of the cycles (float runs mixed precision)", "float",
+              {"float", "double"}),
+       choice("cycle", "V (Algorithm 1) or W cycles", "V", {"V", "W"}),
+       Field{"accelerate", FieldType::BOOLEAN,
+             "Use each cycle as the preconditioner of flexible GMRES(10) instead of iterating "
+             "cycles alone (robust for slender embedded bodies)",
+             "", true},
+       integer("boundary_sweeps", "Band Gauss-Seidel sweeps per pass; 0 = paper default for nu", 0,
+               0)});
   Field formats = choice("", "Output format", "vtk", {"vtk", "obj", "ply"});
   Field output =
       object("output", "Results",
