@@ -1,6 +1,7 @@
 #pragma once
-// `mgelastic demo`: the README's first command. Until scene files exist it prints the grid
-// engine's convergence table on the paper's mixed-boundary elastic box.
+// `mgelastic demo`: the README's first command. Simulates the embedded default scene (a soft
+// character, written to out/demo) and prints the grid engine's convergence table on the paper's
+// mixed-boundary elastic box.
 #include <CLI/CLI.hpp>
 
 namespace mgelastic::app {

@@ -93,9 +93,9 @@ void solve_and_write(const scene::Scene& s, const scene::GridSetup& setup,
                   f.c_str());
 }
 
-void run(const RunOptions& o) {
-  set_thread_count(o.threads);
-  const scene::Scene s = scene::load_scene(o.scene);
+}  // namespace
+
+void run_scene(const scene::Scene& s, const std::filesystem::path& output) {
   if (s.engine != "grid")
     throw Error("engine '" + s.engine + "' is not available in `mgelastic run` yet (grid only)",
                 ErrorContext{.file = s.file, .pointer = "/engine"});
@@ -105,15 +105,22 @@ void run(const RunOptions& o) {
   Timer timer;
   const scene::GridSetup setup = scene::build_grid_setup(s);
   const double setup_seconds = timer.seconds();
-  const std::filesystem::path dir = o.output.empty() ? s.output_dir : o.output;
+  const std::filesystem::path dir = output.empty() ? std::filesystem::path(s.output_dir) : output;
   std::printf("scene %s: %zu interior cells, %zu Dirichlet cells, lattice %d x %d x %d\n",
-              o.scene.c_str(), setup.interior_cells, setup.dirichlet_cells, setup.voxels.dims[0],
+              s.file.c_str(), setup.interior_cells, setup.dirichlet_cells, setup.voxels.dims[0],
               setup.voxels.dims[1], setup.voxels.dims[2]);
   if (s.precision == "double") {
     solve_and_write<double>(s, setup, dir, setup_seconds);
   } else {
     solve_and_write<float>(s, setup, dir, setup_seconds);
   }
+}
+
+namespace {
+
+void run(const RunOptions& o) {
+  set_thread_count(o.threads);
+  run_scene(scene::load_scene(o.scene), o.output);
 }
 
 }  // namespace
