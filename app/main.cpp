@@ -4,6 +4,7 @@
 
 #include "bench_command.hpp"
 #include "demo_command.hpp"
+#include "info_command.hpp"
 #include "mgelastic/core/error.hpp"
 #include "run_command.hpp"
 #include "scene_commands.hpp"
@@ -18,6 +19,7 @@ int main(int argc, char** argv) {
   mgelastic::app::register_demo_command(app);
   mgelastic::app::register_scene_commands(app);
   mgelastic::app::register_run_command(app);
+  mgelastic::app::register_info_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -60,5 +60,19 @@ TEST(Voxelization, RegionsSelectOverlappingCells) {
   EXPECT_EQ(selected, 8 * 8);  // the bottom layer of the body (0.125 thick, slab reaches -0.4)
 }
 
+// Two cells touching along an edge, and two touching at a corner, get a face path between them.
+TEST(Voxelization, DiagonalContactsAreBridgedIntoFaceConnections) {
+  VoxelGrid grid;
+  grid.dims = Eigen::Vector3i(4, 4, 4);
+  grid.occupied.assign(64, 0);
+  grid.occupied[grid.index(0, 0, 0)] = grid.occupied[grid.index(1, 1, 0)] = 1;  // edge contact
+  grid.occupied[grid.index(3, 3, 3)] = grid.occupied[grid.index(2, 2, 2)] = 1;  // corner contact
+  EXPECT_EQ(bridge_diagonal_contacts(grid), 3);
+  // Edge pair: one of the two cells sharing a face with both is now occupied.
+  EXPECT_TRUE(grid.occupied[grid.index(1, 0, 0)] || grid.occupied[grid.index(0, 1, 0)]);
+  // A second pass finds nothing left to bridge.
+  EXPECT_EQ(bridge_diagonal_contacts(grid), 0);
+}
+
 }  // namespace
 }  // namespace mgelastic::geometry

@@ -108,7 +108,7 @@ Scene bar_scene() {
   return parse_scene(nlohmann::json::parse(R"({
     "geometry": {"difference": [{"box": {"size": [1, 0.25, 0.25]}},
                                 {"cylinder": {"a": [0, -1, 0], "b": [0, 1, 0], "radius": 0.12}}]},
-    "grid": {"resolution": 16},
+    "grid": {"resolution": 32},
     "constraints": [{"region": {"box": {"center": [-0.5, 0, 0], "size": [0.1, 1, 1]}}}]
   })"),
                      "bar.json", ".");
@@ -116,7 +116,7 @@ Scene bar_scene() {
 
 TEST(GridSetup, VoxelizesTheBodyAndMarksConstraintCells) {
   const GridSetup setup = build_grid_setup(bar_scene());
-  EXPECT_GT(setup.interior_cells, 16u * 4 * 4 / 2);
+  EXPECT_GT(setup.interior_cells, 32u * 8 * 8 / 2);
   EXPECT_GT(setup.dirichlet_cells, 0u);
   // The drilled hole at the center is exterior: the cell at the bar's center is not interior.
   const auto& p = setup.problem;

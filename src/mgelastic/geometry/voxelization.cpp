@@ -42,7 +42,102 @@ void dilate(VoxelGrid& grid) {
   grid.occupied = std::move(result);
 }
 
+bool occupied_at(const VoxelGrid& grid, const Eigen::Vector3i& c) {
+  return (c.array() >= 0).all() && (c.array() < grid.dims.array()).all() &&
+         grid.occupied[grid.index(c[0], c[1], c[2])];
+}
+
+// True when some monotone face path from c to c + offset runs through occupied cells only.
+bool face_connected(const VoxelGrid& grid, const Eigen::Vector3i& c,
+                    const Eigen::Vector3i& offset) {
+  if (offset.cwiseAbs().sum() <= 1) return true;
+  for (int a = 0; a < 3; ++a) {
+    if (offset[a] == 0) continue;
+    Eigen::Vector3i step = Eigen::Vector3i::Zero();
+    step[a] = offset[a];
+    if (occupied_at(grid, c + step) && face_connected(grid, c + step, offset - step)) return true;
+  }
+  return false;
+}
+
+// Occupies the cells of one face path between c and c + offset.
+int fill_path(VoxelGrid& grid, Eigen::Vector3i c, Eigen::Vector3i offset) {
+  int added = 0;
+  for (int a = 0; a < 3 && offset.cwiseAbs().sum() > 1; ++a) {
+    if (offset[a] == 0) continue;
+    c[a] += offset[a];
+    offset[a] = 0;
+    std::uint8_t& cell = grid.occupied[grid.index(c[0], c[1], c[2])];
+    added += cell == 0;
+    cell = 1;
+  }
+  return added;
+}
+
+bool block_full(const VoxelGrid& grid, const Eigen::Vector3i& corner, int& occupied) {
+  occupied = 0;
+  for (int c = 0; c < 8; ++c)
+    occupied += occupied_at(grid, corner + Eigen::Vector3i(c & 1, (c >> 1) & 1, c >> 2));
+  return occupied == 8;
+}
+
 }  // namespace
+
+int thicken_thin_features(VoxelGrid& grid) {
+  int added = 0;
+  const auto& n = grid.dims;
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i) {
+        if (!grid.occupied[grid.index(i, j, k)]) continue;
+        // The 2x2x2 blocks containing the cell: done if one is full, else fill the fullest.
+        Eigen::Vector3i best(-1, -1, -1);
+        int best_count = -1;
+        bool full = false;
+        for (int c = 0; c < 8 && !full; ++c) {
+          const Eigen::Vector3i corner =
+              Eigen::Vector3i(i, j, k) - Eigen::Vector3i(c & 1, (c >> 1) & 1, c >> 2);
+          if ((corner.array() < 0).any() || (corner.array() + 1 >= n.array()).any()) continue;
+          int count = 0;
+          full = block_full(grid, corner, count);
+          if (count > best_count) best_count = count, best = corner;
+        }
+        if (full || best_count < 0) continue;
+        for (int c = 0; c < 8; ++c) {
+          const Eigen::Vector3i q = best + Eigen::Vector3i(c & 1, (c >> 1) & 1, c >> 2);
+          std::uint8_t& cell = grid.occupied[grid.index(q[0], q[1], q[2])];
+          added += cell == 0;
+          cell = 1;
+        }
+      }
+  return added;
+}
+
+int bridge_diagonal_contacts(VoxelGrid& grid) {
+  int total = 0;
+  for (int added = 1; added > 0; total += added) {
+    added = 0;
+    const auto& n = grid.dims;
+    for (int k = 0; k < n[2]; ++k)
+      for (int j = 0; j < n[1]; ++j)
+        for (int i = 0; i < n[0]; ++i) {
+          if (!grid.occupied[grid.index(i, j, k)]) continue;
+          const Eigen::Vector3i c(i, j, k);
+          // Upper half of the 26-neighborhood is enough: each pair is seen once from its lower
+          // cell.
+          for (int dk = 0; dk <= 1; ++dk)
+            for (int dj = -1; dj <= 1; ++dj)
+              for (int di = -1; di <= 1; ++di) {
+                const Eigen::Vector3i offset(di, dj, dk);
+                if (offset.cwiseAbs().sum() < 2 || (dk == 0 && (dj < 0 || (dj == 0 && di < 0))))
+                  continue;
+                if (occupied_at(grid, c + offset) && !face_connected(grid, c, offset))
+                  added += fill_path(grid, c, offset);
+              }
+        }
+  }
+  return total;
+}
 
 std::vector<std::uint8_t> overlapping_cells(const VoxelGrid& grid, const Shape& region) {
   std::vector<std::uint8_t> mask(static_cast<std::size_t>(grid.dims.prod()), 0);
@@ -75,6 +170,8 @@ VoxelGrid voxelize(const Shape& body, const VoxelizeOptions& options) {
                 {.pointer = "grid"});
   grid.origin = box.min() - Point::Constant(border * grid.cell_size);
   grid.occupied = overlapping_cells(grid, body);
+  grid.bridged_cells = bridge_diagonal_contacts(grid);
+  grid.thickened_cells = thicken_thin_features(grid);
   for (int layer = 0; layer < options.padding; ++layer) dilate(grid);
   return grid;
 }

@@ -18,6 +18,8 @@ struct VoxelGrid {
   double cell_size = 1;
   Eigen::Vector3i dims = Eigen::Vector3i::Zero();
   std::vector<std::uint8_t> occupied;  // x fastest
+  int bridged_cells = 0;               // cells added by bridge_diagonal_contacts
+  int thickened_cells = 0;             // cells added by thicken_thin_features
   std::size_t index(int i, int j, int k) const {
     return (static_cast<std::size_t>(k) * dims[1] + j) * dims[0] + i;
   }
@@ -34,6 +36,19 @@ struct VoxelizeOptions {
 };
 
 VoxelGrid voxelize(const Shape& body, const VoxelizeOptions& options);
+
+// Staggered unknowns couple cells through shared faces only, so parts of a thin body that touch
+// along an edge or a corner alone would move independently (and float, making the system
+// singular). This occupies, for every such contact, the cells of one face path between the two
+// cells, until the occupied set is face-connected wherever it was 26-connected. Returns the number
+// of cells added. voxelize() calls it before padding.
+int bridge_diagonal_contacts(VoxelGrid& grid);
+
+// A part one cell thick has a strain-free mode on the staggered lattice (its shear stresses all
+// sit on traction-free edges), so the system would be singular. This makes every occupied cell
+// part of a fully occupied 2x2x2 block, filling the block that already holds the most occupied
+// cells. Returns the number of cells added. voxelize() calls it after bridging.
+int thicken_thin_features(VoxelGrid& grid);
 
 // Cells of `grid` that overlap `region` (same rule as voxelize).
 std::vector<std::uint8_t> overlapping_cells(const VoxelGrid& grid, const Shape& region);

@@ -8,10 +8,16 @@
 
 namespace mgelastic::grid {
 
+// Supernodal Cholesky that also reports CHOLMOD's reciprocal condition estimate of its factor.
+class CoarseCholesky : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> {
+ public:
+  double reciprocal_condition() { return cholmod_rcond(m_cholmodFactor, &cholmod()); }
+};
+
 template <int Dim, typename Scalar>
 struct CoarseSolver<Dim, Scalar>::Impl {
   NonAugmentedSystem<Dim> system;
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> cholesky;
+  CoarseCholesky cholesky;
 };
 
 template <int Dim, typename Scalar>
@@ -21,9 +27,15 @@ CoarseSolver<Dim, Scalar>::CoarseSolver(const Level<Dim, Scalar>& level)
   m_impl->system = assemble_nonaugmented(level, BoundaryStress<Dim>{});
   if (m_impl->system.u_variables.empty())
     throw Error("the coarsest grid level has no interior variable", {.pointer = "grid"});
+  // Quiet: a failed factorization is reported by the exception below (or handled by the caller).
+  m_impl->cholesky.cholmod().print = 0;
   m_impl->cholesky.compute(m_impl->system.matrix);
-  if (m_impl->cholesky.info() != Eigen::Success)
-    throw Error(
+  // A body part that can move without strain on this level (not held, or a coarse sheet one cell
+  // thick whose shear is traction-free) makes the matrix singular; rounding may still let the
+  // factorization through, so the condition estimate decides too.
+  if (m_impl->cholesky.info() != Eigen::Success ||
+      !(m_impl->cholesky.reciprocal_condition() > 1e-13))
+    throw SingularCoarseLevel(
         "the coarsest-level system is singular (is every part of the body held by a "
         "Dirichlet region?)",
         {.pointer = "grid"});

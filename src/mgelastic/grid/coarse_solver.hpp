@@ -4,9 +4,16 @@
 // traction variables back-substituted so the coarse correction is defined at boundary variables.
 #include <memory>
 
+#include "mgelastic/core/error.hpp"
 #include "mgelastic/grid/level.hpp"
 
 namespace mgelastic::grid {
+
+// The coarsest-level matrix is singular (or numerically so).
+class SingularCoarseLevel : public Error {
+ public:
+  using Error::Error;
+};
 
 template <int Dim, typename Scalar>
 class CoarseSolver {

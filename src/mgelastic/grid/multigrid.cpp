@@ -65,16 +65,21 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
     cells.push_back(coarsen_cells(lattices.back(), cells.back()));
     lattices.push_back(coarsen(lattices.back()));
   }
-  constexpr bool mixed = !std::is_same_v<Scalar, double>;
-  for (std::size_t l = 0; l < lattices.size(); ++l) {
-    const bool finest = l == 0 && !mixed;
-    const bool coarsest = l + 1 == lattices.size();
-    m_levels.push_back(
-        build_level<Dim, Scalar>(lattices[l], cells[l], problem.material,
-                                 finest ? problem.boundary_stress : BoundaryStress<Dim>{},
-                                 coarsest ? nullptr : &cells[l + 1]));
+  // Thin parts of an embedded body can become one-cell sheets with a strain-free mode on a coarse
+  // level; such a level cannot be the coarsest (its direct solve is singular), so the hierarchy
+  // stops one level finer, down to a direct solve of the finest level itself.
+  while (true) {
+    build_levels(problem, lattices, cells);
+    try {
+      m_coarse = std::make_unique<CoarseSolver<Dim, Scalar>>(m_levels.back());
+      break;
+    } catch (const SingularCoarseLevel&) {
+      if (lattices.size() == 1) throw;
+      lattices.pop_back();
+      cells.pop_back();
+    }
   }
-  m_coarse = std::make_unique<CoarseSolver<Dim, Scalar>>(m_levels.back());
+  constexpr bool mixed = !std::is_same_v<Scalar, double>;
   if constexpr (mixed) {
     m_solution = std::make_unique<Level<Dim, double>>(
         build_level<Dim, double>(lattices[0], cells[0], problem.material, problem.boundary_stress,
@@ -85,6 +90,34 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
   } else {
     set_dirichlet_values(m_levels.front(), problem.dirichlet_displacement);
     set_right_hand_side(problem, m_levels.front());
+    back_substitute_traction(m_levels.front());
+  }
+}
+
+template <int Dim, typename Scalar>
+void Multigrid<Dim, Scalar>::build_levels(const ElasticityProblem<Dim>& problem,
+                                          const std::vector<Lattice<Dim>>& lattices,
+                                          const std::vector<std::vector<CellType>>& cells) {
+  constexpr bool mixed = !std::is_same_v<Scalar, double>;
+  m_levels.clear();
+  for (std::size_t l = 0; l < lattices.size(); ++l) {
+    const bool finest = l == 0 && !mixed;
+    const bool coarsest = l + 1 == lattices.size();
+    m_levels.push_back(
+        build_level<Dim, Scalar>(lattices[l], cells[l], problem.material,
+                                 finest ? problem.boundary_stress : BoundaryStress<Dim>{},
+                                 coarsest ? nullptr : &cells[l + 1]));
+  }
+}
+
+template <int Dim, typename Scalar>
+void Multigrid<Dim, Scalar>::set_dirichlet_displacement(
+    const std::function<Vec<Dim>(const Vec<Dim>&)>& displacement) {
+  if (m_solution) {
+    set_dirichlet_values(*m_solution, displacement);
+    back_substitute_traction(*m_solution);
+  } else {
+    set_dirichlet_values(m_levels.front(), displacement);
     back_substitute_traction(m_levels.front());
   }
 }

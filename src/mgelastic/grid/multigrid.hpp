@@ -56,6 +56,10 @@ class Multigrid {
   // Validates the problem (throws mgelastic::Error) and builds the hierarchy.
   explicit Multigrid(const ElasticityProblem<Dim>& problem, MultigridOptions options = {});
 
+  // Replaces the prescribed displacement of the Dirichlet variables (a keyframed region's next
+  // frame), keeping the current solution elsewhere as the warm start of the next solve.
+  void set_dirichlet_displacement(const std::function<Vec<Dim>(const Vec<Dim>&)>& displacement);
+
   double residual();  // recomputes the finest residual norm
   double vcycle();    // one V(1,1) cycle; returns the residual norm after it
   // Cycles until residual <= tolerance * initial residual or max_cycles; throws on NaN/Inf.
@@ -80,6 +84,9 @@ class Multigrid {
   const PhaseSeconds& phase_seconds() const { return m_phases; }
 
  private:
+  void build_levels(const ElasticityProblem<Dim>& problem,
+                    const std::vector<Lattice<Dim>>& lattices,
+                    const std::vector<std::vector<CellType>>& cells);
   void smooth(int l);
   void cycle_correction();
   Level<Dim, double>& solution_level();

@@ -29,6 +29,45 @@ Vec<3> NodeDisplacement::sample(const Vec<3>& x) const {
   return result;
 }
 
+namespace {
+
+// Nodes no active face touches would read as zero displacement and drag interpolants that reach
+// past the body (tricubic uses one more node layer) toward rest; give them, layer by layer, the
+// mean of their defined 6-neighbors instead (a constant extension of the body's motion).
+void extend_into_empty_nodes(NodeDisplacement& u, std::vector<char>& defined, int layers) {
+  const auto id = [&](int i, int j, int k) {
+    return (std::size_t(k) * u.nodes[1] + j) * u.nodes[0] + i;
+  };
+  for (int layer = 0; layer < layers; ++layer) {
+    std::vector<char> next = defined;
+    for (int k = 0; k < u.nodes[2]; ++k)
+      for (int j = 0; j < u.nodes[1]; ++j)
+        for (int i = 0; i < u.nodes[0]; ++i)
+          for (int a = 0; a < 3; ++a) {
+            const std::size_t n = id(i, j, k);
+            if (defined[3 * n + a]) continue;
+            double sum = 0;
+            int count = 0;
+            for (int axis = 0; axis < 3; ++axis)
+              for (int step : {-1, 1}) {
+                IVec<3> q(i, j, k);
+                q[axis] += step;
+                if (q[axis] < 0 || q[axis] >= u.nodes[axis]) continue;
+                const std::size_t m = id(q[0], q[1], q[2]);
+                if (!defined[3 * m + a]) continue;
+                sum += u.values[3 * m + a];
+                ++count;
+              }
+            if (count == 0) continue;
+            u.values[3 * n + a] = sum / count;
+            next[3 * n + a] = 1;
+          }
+    defined.swap(next);
+  }
+}
+
+}  // namespace
+
 template <typename Scalar>
 NodeDisplacement node_displacement(const Level<3, Scalar>& level,
                                    const std::function<double(int, std::ptrdiff_t)>& value) {
@@ -38,6 +77,7 @@ NodeDisplacement node_displacement(const Level<3, Scalar>& level,
   u.h = lat.h;
   u.origin = lat.origin;
   u.values.assign(3 * std::size_t(u.nodes.prod()), 0.0);
+  std::vector<char> defined_node(u.values.size(), 0);
   // Node (i, j, k) is the lower corner of stored cell (i+1, j+1, k+1); the faces normal to e_a
   // sharing it are the lower a-faces of that cell and of its neighbors across the other axes.
   for (int k = 0; k < u.nodes[2]; ++k)
@@ -74,8 +114,10 @@ NodeDisplacement node_displacement(const Level<3, Scalar>& level,
             }
           }
           u.values[3 * n + a] = count ? sum / count : 0.0;
+          defined_node[3 * n + a] = count > 0;
         }
       }
+  extend_into_empty_nodes(u, defined_node, 2);
   return u;
 }
 

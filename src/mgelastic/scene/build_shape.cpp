@@ -2,6 +2,7 @@
 
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/geometry/csg.hpp"
+#include "mgelastic/geometry/mesh_shape.hpp"
 #include "mgelastic/geometry/primitives.hpp"
 
 namespace mgelastic::scene {
@@ -24,11 +25,14 @@ geometry::ShapePtr build_kind(const std::string& kind, const nlohmann::json& v,
   if (kind == "torus")
     return make_torus(point(v["center"]), point(v["axis"]), v["major_radius"].get<double>(),
                       v["minor_radius"].get<double>());
-  if (kind == "mesh")
-    throw Error(
-        "triangle-mesh geometry is not supported yet (surface mesh readers are pending); "
-        "use primitives and CSG",
-        ErrorContext{.file = file, .pointer = at});
+  if (kind == "mesh") {
+    try {
+      return load_mesh_shape(directory / v.get<std::string>());
+    } catch (const Error& e) {
+      // The reader names the mesh file and line; say where the scene asked for it.
+      throw Error(e.what(), ErrorContext{.file = file, .pointer = at});
+    }
+  }
   std::vector<ShapePtr> children;
   for (std::size_t i = 0; i < v.size(); ++i)
     children.push_back(build_shape(v[i], directory, file, at + "/" + std::to_string(i)));

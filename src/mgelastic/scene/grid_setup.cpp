@@ -1,9 +1,64 @@
 #include "mgelastic/scene/grid_setup.hpp"
 
+#include <limits>
+
 #include "mgelastic/core/error.hpp"
+#include "mgelastic/grid/embedded_traction.hpp"
 #include "mgelastic/scene/build_shape.hpp"
+#include "mgelastic/scene/render_surface.hpp"
 
 namespace mgelastic::scene {
+
+bool GridSetup::animated() const {
+  for (const auto& r : regions)
+    if (!r.motion.is_fixed()) return true;
+  return false;
+}
+
+std::function<grid::Vec<3>(const grid::Vec<3>&)> dirichlet_displacement(const GridSetup& setup,
+                                                                        double time) {
+  if (!setup.animated()) return {};
+  return [regions = setup.regions, time](const grid::Vec<3>& x) -> grid::Vec<3> {
+    std::size_t deepest = 0;
+    double depth = std::numeric_limits<double>::infinity();
+    for (std::size_t r = 0; r < regions.size(); ++r) {
+      const double d = regions[r].shape->signed_distance(x);
+      if (d < depth) depth = d, deepest = r;
+    }
+    return regions[deepest].motion.displacement(x, time);
+  };
+}
+
+namespace {
+
+// Each rest-surface triangle whose centroid lies in a traction region carries traction * area
+// at its centroid (one-point quadrature; triangles are a fraction of a cell).
+void add_tractions(const Scene& scene, GridSetup& setup) {
+  std::vector<grid::SurfaceForce<3>> forces;
+  const auto& V = setup.surface.vertices;
+  const auto& F = setup.surface.triangles;
+  for (std::size_t t = 0; t < scene.tractions.size(); ++t) {
+    const std::string at = "/loads/tractions/" + std::to_string(t) + "/region";
+    const auto region = build_shape(scene.tractions[t].region, scene.directory, scene.file, at);
+    std::size_t selected = 0;
+    for (Eigen::Index f = 0; f < F.rows(); ++f) {
+      const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+      const Eigen::Vector3d centroid = (a + b + c) / 3.0;
+      const Eigen::Vector3d area_normal = 0.5 * (b - a).cross(c - a);
+      const double area = area_normal.norm();
+      if (area == 0 || !region->contains(centroid)) continue;
+      forces.push_back({centroid, area * scene.tractions[t].traction, area_normal / area});
+      ++selected;
+    }
+    if (selected == 0)
+      throw Error("the region contains no part of the body's surface",
+                  ErrorContext{.file = scene.file, .pointer = at});
+    setup.traction_triangles += selected;
+  }
+  if (!forces.empty()) grid::apply_surface_forces(setup.problem, forces);
+}
+
+}  // namespace
 
 GridSetup build_grid_setup(const Scene& scene) {
   GridSetup setup;
@@ -24,6 +79,7 @@ GridSetup build_grid_setup(const Scene& scene) {
   for (std::size_t c = 0; c < scene.constraints.size(); ++c) {
     const std::string at = "/constraints/" + std::to_string(c) + "/region";
     const auto region = build_shape(scene.constraints[c].region, scene.directory, scene.file, at);
+    setup.regions.push_back({region, scene.constraints[c].motion});
     const auto mask = geometry::overlapping_cells(v, *region);
     std::size_t selected = 0;
     for (int k = 0; k < v.dims[2]; ++k)
@@ -44,6 +100,9 @@ GridSetup build_grid_setup(const Scene& scene) {
   if (setup.interior_cells == 0)
     throw Error("the geometry has no interior cell at this resolution",
                 ErrorContext{.file = scene.file, .pointer = "/grid"});
+  p.dirichlet_displacement = dirichlet_displacement(setup, 0.0);
+  setup.surface = rest_surface(scene, *setup.body, v.cell_size);
+  add_tractions(scene, setup);
   const Eigen::Vector3d load = scene.density * scene.gravity;
   p.body_force = [load](const grid::Vec<3>&) { return grid::Vec<3>(load); };
   return setup;

@@ -1,7 +1,10 @@
 #pragma once
 // From a scene to the grid engine's problem (Sec. 5.1): the body is voxelized (cells that
 // overlap it are interior), cells overlapping a constraint region become Dirichlet cells
-// (fixed), and gravity loads the body with density * g.
+// (fixed or keyframed), gravity loads the body with density * g, and tractions on the part of
+// the rest surface inside a region become surface forces distributed to the staggered variables
+// (Sec. 9.2, embedded_traction.hpp).
+#include "mgelastic/geometry/triangle_mesh.hpp"
 #include "mgelastic/geometry/voxelization.hpp"
 #include "mgelastic/grid/problem.hpp"
 #include "mgelastic/scene/scene.hpp"
@@ -13,8 +16,23 @@ struct GridSetup {
   geometry::ShapePtr body;
   geometry::VoxelGrid voxels;
   std::size_t interior_cells = 0, dirichlet_cells = 0;
+  // Constraint regions in scene order with their motions; a Dirichlet variable follows the
+  // region it lies deepest in (smallest signed distance).
+  struct Region {
+    geometry::ShapePtr shape;
+    KeyframedMotion motion;
+  };
+  std::vector<Region> regions;
+  geometry::TriangleMesh surface;  // rest surface the lattice carries (render_surface.hpp)
+  std::size_t traction_triangles = 0;
+  bool animated() const;  // some region is keyframed
 };
 
+// The problem's dirichlet_displacement is that of time 0.
 GridSetup build_grid_setup(const Scene& scene);
+
+// Prescribed displacement of the Dirichlet variables at `time`.
+std::function<grid::Vec<3>(const grid::Vec<3>&)> dirichlet_displacement(const GridSetup& setup,
+                                                                        double time);
 
 }  // namespace mgelastic::scene

@@ -1,5 +1,6 @@
 #include "mgelastic/scene/scene.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -19,6 +20,42 @@ long line_of(const std::string& text, std::size_t byte) {
   return line;
 }
 
+Scene::Constraint parse_constraint(const nlohmann::json& c, const std::string& file,
+                                   std::size_t index) {
+  const std::string at = "/constraints/" + std::to_string(index);
+  Scene::Constraint constraint{c["region"], c["motion"], {}};
+  const nlohmann::json& keys = c["keyframes"];
+  if (constraint.motion_kind == "fixed") {
+    if (!keys.empty())
+      throw Error("keyframes need \"motion\": \"keyframed\"",
+                  ErrorContext{.file = file, .pointer = at + "/keyframes"});
+    return constraint;
+  }
+  if (keys.empty())
+    throw Error("a keyframed region needs at least one keyframe",
+                ErrorContext{.file = file, .pointer = at + "/keyframes"});
+  std::vector<RigidKeyframe> frames;
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    const Eigen::Vector3d axis = vec3(keys[k]["rotate_axis"]);
+    const double degrees = keys[k]["rotate_degrees"];
+    if (degrees != 0 && axis.norm() == 0)
+      throw Error("rotation axis must not be zero",
+                  ErrorContext{.file = file, .pointer = at + "/keyframes/" + std::to_string(k)});
+    const double time = keys[k]["time"];
+    if (!frames.empty() && time <= frames.back().time)
+      throw Error(
+          "keyframe times must increase strictly",
+          ErrorContext{.file = file, .pointer = at + "/keyframes/" + std::to_string(k) + "/time"});
+    const Eigen::Quaterniond q =
+        degrees == 0
+            ? Eigen::Quaterniond::Identity()
+            : Eigen::Quaterniond(Eigen::AngleAxisd(degrees * M_PI / 180, axis.normalized()));
+    frames.push_back({time, vec3(keys[k]["translate"]), q});
+  }
+  constraint.motion = KeyframedMotion(vec3(c["pivot"]), std::move(frames));
+  return constraint;
+}
+
 }  // namespace
 
 Scene parse_scene(const nlohmann::json& document, const std::string& file,
@@ -36,10 +73,19 @@ Scene parse_scene(const nlohmann::json& document, const std::string& file,
   s.youngs_modulus = d["material"]["youngs_modulus"];
   s.poisson_ratio = d["material"]["poisson_ratio"];
   s.density = d["material"]["density"];
-  for (const auto& c : d["constraints"]) s.constraints.push_back({c["region"], c["motion"]});
+  for (std::size_t c = 0; c < d["constraints"].size(); ++c)
+    s.constraints.push_back(parse_constraint(d["constraints"][c], file, c));
   s.gravity = vec3(d["loads"]["gravity"]);
   for (const auto& t : d["loads"]["tractions"])
     s.tractions.push_back({t["region"], vec3(t["traction"])});
+  const nlohmann::json& t = d["time"];
+  s.time = {t["dt"],         t["frames"],  t["substeps"],    t["quasistatic"],
+            t["integrator"], t["damping"], t["mass_damping"]};
+  const nlohmann::json& tet = d["tet"];
+  s.tet = {tet["rotation"], tet["resolution"], tet["linear_solver"], tet["tolerance"],
+           tet["max_iterations"]};
+  s.surface_interpolation = d["output"]["surface"]["interpolation"];
+  s.surface_spacing = d["output"]["surface"]["spacing"];
   s.tolerance = d["solver"]["tolerance"];
   s.max_vcycles = d["solver"]["max_vcycles"];
   s.precision = d["solver"]["precision"];

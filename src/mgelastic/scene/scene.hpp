@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "mgelastic/scene/keyframed_motion.hpp"
+
 namespace mgelastic::scene {
 
 struct Scene {
@@ -22,7 +24,8 @@ struct Scene {
   double youngs_modulus = 1e5, poisson_ratio = 0.45, density = 1000;
   struct Constraint {
     nlohmann::json region;
-    std::string motion;
+    std::string motion_kind;  // "fixed" or "keyframed"
+    KeyframedMotion motion;
   };
   std::vector<Constraint> constraints;
   Eigen::Vector3d gravity = Eigen::Vector3d(0, -9.81, 0);
@@ -31,6 +34,22 @@ struct Scene {
     Eigen::Vector3d traction;
   };
   std::vector<Traction> tractions;
+  struct Time {
+    double dt = 1.0 / 30.0;
+    int frames = 1, substeps = 1;
+    bool quasistatic = true;
+    std::string integrator = "implicit_euler";
+    double damping = 0, mass_damping = 0;
+  } time;
+  struct Tet {
+    std::string rotation = "energy";
+    int resolution = 16;
+    std::string linear_solver = "pcg";
+    double tolerance = 1e-6;
+    int max_iterations = 2000;
+  } tet;
+  std::string surface_interpolation = "tricubic";
+  double surface_spacing = 0.5;  // marching-cubes spacing / cell size
   double tolerance = 1e-6;
   int max_vcycles = 50;
   std::string precision = "float", cycle = "V";

@@ -72,10 +72,28 @@ Field build_schema() {
              {number("youngs_modulus", "Young's modulus E", "Pa", 1e5, 0.0, true),
               number("poisson_ratio", "Poisson ratio nu", "", 0.45, 0.0, false, 0.5, true),
               number("density", "Mass density (gravity load)", "kg/m^3", 1000.0, 0.0, true)});
-  Field constraint =
-      object("", "A Dirichlet region",
-             {shape("region", "Cells overlapping this shape are Dirichlet (fixed) cells", true),
-              choice("motion", "Prescribed motion of the region", "fixed", {"fixed"})});
+  Field keyframe = object(
+      "", "Rigid pose of the region at a time: x -> R (x - pivot) + pivot + translate",
+      {[] {
+         Field f =
+             number("time", "Key time (strictly increasing along the list)", "s", nullptr, 0.0);
+         f.required = true;
+         return f;
+       }(),
+       vector3("translate", "Translation", "m", nlohmann::json::array({0, 0, 0})),
+       vector3("rotate_axis", "Rotation axis", "", nlohmann::json::array({0, 0, 1})),
+       number("rotate_degrees", "Rotation angle about the axis through `pivot`", "deg", 0.0)});
+  Field constraint = object(
+      "", "A Dirichlet region",
+      {shape("region",
+             "Cells (grid engine) or vertices (tet engine) inside this shape are constrained",
+             true),
+       choice("motion",
+              "fixed: held at rest; keyframed: rigid motion through `keyframes` (translation "
+              "interpolated linearly, rotation by slerp, held constant outside the key range)",
+              "fixed", {"fixed", "keyframed"}),
+       vector3("pivot", "Center of the keyframed rotations", "m", nlohmann::json::array({0, 0, 0})),
+       array("keyframes", "Poses of a keyframed region (at least one)", keyframe)});
   Field traction =
       object("", "A traction on the part of the body's surface inside a region (Sec. 9.2)",
              {shape("region", "Surface inside this shape carries the traction", true),
@@ -98,22 +116,60 @@ Field build_schema() {
              "", true},
        integer("boundary_sweeps", "Band Gauss-Seidel sweeps per pass; 0 = paper default for nu", 0,
                0)});
+  Field time = object(
+      "time", "Frames and time stepping",
+      {number("dt", "Frame duration", "s", 1.0 / 30.0, 0.0, true),
+       integer("frames", "Frames to simulate (a quasistatic run solves one equilibrium per frame)",
+               1, 1),
+       integer("substeps", "Time steps per frame (dynamic runs)", 1, 1),
+       Field{"quasistatic", FieldType::BOOLEAN,
+             "Solve static equilibrium at each frame time (true) or integrate dynamics (false)", "",
+             true},
+       choice("integrator", "Time integrator of dynamic tet runs", "implicit_euler",
+              {"implicit_euler", "newmark"}),
+       number("damping", "Stiffness-proportional (Rayleigh) damping coefficient", "s", 0.0, 0.0),
+       number("mass_damping", "Mass-proportional (Rayleigh) damping coefficient", "1/s", 0.0,
+              0.0)});
+  Field tet = object(
+      "tet", "Tetrahedral engine (Georgii & Westermann 2008)",
+      {choice("rotation",
+              "Element rotations: energy minimization (quaternion Newton), polar decomposition, "
+              "or polar decomposition smoothed over the 1-ring",
+              "energy", {"energy", "polar", "smoothed_polar"}),
+       integer("resolution",
+               "Cubes along the longest axis when the tet mesh is generated from the geometry "
+               "(cubes split into 6 tetrahedra); ignored when `geometry.mesh` is a tet mesh",
+               16, 1),
+       choice("linear_solver", "Step solver: block-Jacobi PCG or sparse Cholesky", "pcg",
+              {"pcg", "cholesky"}),
+       number("tolerance", "Relative residual of the PCG step solve", "", 1e-6, 0.0, true, 1.0,
+              true),
+       integer("max_iterations", "PCG iteration limit per step", 2000, 1)});
+  Field surface = object(
+      "surface", "Deformed embedded surface (grid engine, Sec. 9.3)",
+      {choice("interpolation", "How surface points follow the lattice", "tricubic",
+              {"trilinear", "tricubic"}),
+       number("spacing",
+              "Marching-cubes spacing for primitive/CSG bodies, as a fraction of the cell size", "",
+              0.5, 0.0, true, 4.0)});
   Field formats = choice("", "Output format", "vtk", {"vtk", "obj", "ply"});
-  Field output =
-      object("output", "Results",
-             {Field{"dir", FieldType::STRING, "Output directory, relative to the working directory",
-                    "", "out"},
-              [&] {
-                Field f = array("formats",
-                                "vtk: grid fields (.vti) + .pvd series; obj/ply: deformed surface",
-                                formats);
-                f.default_value = nlohmann::json::array({"vtk", "obj"});
-                return f;
-              }()});
-  Field root =
-      object("", "A mgelastic scene",
-             {engine, geometry, grid, material,
-              array("constraints", "Dirichlet regions", constraint), loads, solver, output});
+  Field output = object("output", "Results",
+                        {Field{"dir", FieldType::STRING,
+                               "Output directory, relative to the working directory", "", "out"},
+                         [&] {
+                           Field f =
+                               array("formats",
+                                     "vtk: grid fields (.vti) or tet mesh (.vtu) and the deformed "
+                                     "surface (.vtp) in a .pvd series; obj/ply: deformed surface",
+                                     formats);
+                           f.default_value = nlohmann::json::array({"vtk", "obj"});
+                           return f;
+                         }(),
+                         surface});
+  Field root = object(
+      "", "A mgelastic scene",
+      {engine, geometry, grid, material, array("constraints", "Dirichlet regions", constraint),
+       loads, time, solver, tet, output});
   return root;
 }
 

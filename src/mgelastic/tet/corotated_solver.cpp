@@ -1,6 +1,7 @@
 #include "mgelastic/tet/corotated_solver.hpp"
 
 #include <Eigen/CholmodSupport>
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -182,6 +183,18 @@ const StepStats& CorotatedSolver::step() {
   return m_stats;
 }
 
+double CorotatedSolver::free_residual_norm(const Eigen::VectorXd& x, StepStats& stats) {
+  Timer timer;
+  m_rotations.update(x);
+  stats.rotate_seconds += timer.seconds();
+  timer.restart();
+  Eigen::VectorXd f = m_assembler.elastic_forces(m_rotations, x) + gravity_forces();
+  for (int v = 0; v < m_body.vertex_count(); ++v)
+    if (m_constrained[v]) f.segment<3>(3 * v).setZero();
+  stats.assemble_seconds += timer.seconds();
+  return f.norm();
+}
+
 const StepStats& CorotatedSolver::solve_static(int max_iterations, double tolerance) {
   if (m_dirichlet.empty())
     fail("needs Dirichlet vertices (a free body has no equilibrium)", "static");
@@ -189,22 +202,57 @@ const StepStats& CorotatedSolver::solve_static(int max_iterations, double tolera
   StepStats stats;
   const Eigen::VectorXd target = prescribed_positions(m_time);
   const Eigen::VectorXd& rest = m_body.rest_positions();
+  int pcg_iterations = 0;
   for (stats.static_iterations = 1; stats.static_iterations <= max_iterations;
        ++stats.static_iterations) {
-    update_operator(stats);
+    StepStats round;
+    update_operator(round);
     Eigen::VectorXd b = m_assembler.elastic_forces(m_rotations, m_x) + gravity_forces();
+    double residual = 0.0;
+    if (stats.static_iterations > 1) {
+      for (int v = 0; v < m_body.vertex_count(); ++v)
+        if (!m_constrained[v]) residual += b.segment<3>(3 * v).squaredNorm();
+      residual = std::sqrt(residual);
+    }
     Eigen::VectorXd dx = Eigen::VectorXd::Zero(m_x.size());
-    solve(0.0, 1.0, target - m_x, b, dx, stats);
-    m_x += dx;
+    solve(0.0, 1.0, target - m_x, b, dx, round);
+    // With the rotations frozen, dx is a Picard step: under large rotations it can overshoot
+    // into a 2-cycle (x flips between two states). From the second round on (the first places
+    // the Dirichlet vertices, which must move all the way) halve the step until the free
+    // residual force decreases.
+    double step = 1.0;
+    if (stats.static_iterations > 1)
+      for (int halvings = 0;
+           halvings < 10 && free_residual_norm(m_x + step * dx, round) >= residual; ++halvings)
+        step *= 0.5;
+    m_x += step * dx;
+    // Every round costs a full rotate/assemble/solve: report the sums, not the last round.
+    stats.rotate_seconds += round.rotate_seconds;
+    stats.assemble_seconds += round.assemble_seconds;
+    stats.solve_seconds += round.solve_seconds;
+    stats.rotation = round.rotation;
+    stats.solve = round.solve;
+    pcg_iterations += round.solve.iterations;
+    stats.solve.iterations = pcg_iterations;
+    // Converged when the full Picard step (not the damped one) is small.
     const double scale = std::max((m_x - rest).lpNorm<Eigen::Infinity>(), 1e-300);
-    if (dx.lpNorm<Eigen::Infinity>() <= tolerance * scale) break;
+    if (dx.lpNorm<Eigen::Infinity>() <= tolerance * scale) {
+      stats.static_converged = true;
+      break;
+    }
   }
+  stats.static_iterations = std::min(stats.static_iterations, max_iterations);
   m_v.setZero();
   m_a.setZero();
   m_have_acceleration = false;
   stats.total_seconds = total.seconds();
   m_stats = stats;
   return m_stats;
+}
+
+void CorotatedSolver::set_time(double time) {
+  if (!std::isfinite(time)) fail("must be finite", "time");
+  m_time = time;
 }
 
 Eigen::MatrixX3d CorotatedSolver::positions_matrix() const {

@@ -55,8 +55,9 @@ struct StepStats {
   double solve_seconds = 0.0;
   double total_seconds = 0.0;
   RotationStats rotation;
-  PcgResult solve;            // for CHOLESKY: iterations 0 and the achieved relative residual
-  int static_iterations = 0;  // solve_static only: rotation/solve rounds used
+  PcgResult solve;                // for CHOLESKY: iterations 0 and the achieved relative residual
+  int static_iterations = 0;      // solve_static only: rotation/solve rounds used
+  bool static_converged = false;  // solve_static only: the update fell below the tolerance
 };
 
 class CorotatedSolver {
@@ -73,10 +74,17 @@ class CorotatedSolver {
   // Advances by one time step; throws Error (naming the phase) on NaN or divergence.
   const StepStats& step();
   // Static equilibrium K~(x) (x - ...) = f_ext at the current time by repeated rotation update and
-  // linear solve, until the update is below `tolerance` times the largest displacement.
+  // linear solve, until the update is below `tolerance` times the largest displacement. From the
+  // second round on the update is halved (at most 10 times) until the residual force on the free
+  // vertices decreases, which keeps the frozen-rotation iteration from cycling under large
+  // rotations. The returned phase times and PCG iterations are summed over the rounds (line
+  // search included); the residual is the last round's.
   const StepStats& solve_static(int max_iterations = 20, double tolerance = 1e-10);
 
   double time() const { return m_time; }
+  // Sets the clock that the Dirichlet motion is evaluated at (a quasistatic sequence solves
+  // equilibria at given frame times); positions and velocities are left as they are.
+  void set_time(double time);
   long step_count() const { return m_steps; }
   const Eigen::VectorXd& positions() const { return m_x; }  // 3N, vertex-major
   const Eigen::VectorXd& velocities() const { return m_v; }
@@ -99,6 +107,8 @@ class CorotatedSolver {
   struct Cholesky;
   void update_operator(StepStats& stats);
   Eigen::VectorXd gravity_forces() const;
+  // |f_el(x) + f_ext| over the free vertices, with the rotations updated to x.
+  double free_residual_norm(const Eigen::VectorXd& x, StepStats& stats);
   Eigen::VectorXd prescribed_positions(double time) const;
   void solve(double mass_scale, double stiffness_scale, const Eigen::VectorXd& known,
              Eigen::VectorXd& b, Eigen::VectorXd& unknown, StepStats& stats);

@@ -1,0 +1,170 @@
+#include "grid_run.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "mgelastic/core/error.hpp"
+#include "mgelastic/core/timer.hpp"
+#include "mgelastic/grid/multigrid.hpp"
+#include "mgelastic/grid/node_fields.hpp"
+#include "mgelastic/grid/surface_interpolation.hpp"
+#include "mgelastic/io/surface_mesh_writers.hpp"
+#include "mgelastic/io/vtk_writers.hpp"
+#include "mgelastic/scene/grid_setup.hpp"
+#include "progress.hpp"
+
+namespace mgelastic::app {
+namespace {
+
+bool wants(const scene::Scene& s, const std::string& format) {
+  return std::find(s.formats.begin(), s.formats.end(), format) != s.formats.end();
+}
+
+std::string frame_name(const std::string& stem, int frame, const std::string& extension) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "_%04d.", frame);
+  return stem + buffer + extension;
+}
+
+template <typename Scalar>
+io::ImageData grid_fields(const grid::Multigrid<3, Scalar>& mg, const grid::NodeDisplacement& u,
+                          const scene::Scene& s) {
+  const auto& level = mg.finest();
+  std::vector<double> von_mises =
+      grid::von_mises_stress(u, grid::Material{s.youngs_modulus, s.poisson_ratio});
+  io::ImageData image;
+  image.cells = level.lattice.cells;
+  image.spacing = level.lattice.h;
+  image.origin = level.lattice.origin;
+  image.point_data.push_back({"displacement", 3, u.values});
+  io::DataArray type{"cell_type", 1, {}}, pressure{"pressure", 1, {}};
+  const auto& n = level.lattice.cells;
+  std::size_t c = 0;
+  for (int k = 1; k <= n[2]; ++k)
+    for (int j = 1; j <= n[1]; ++j)
+      for (int i = 1; i <= n[0]; ++i, ++c) {
+        const std::ptrdiff_t cell = level.lattice.index(grid::IVec<3>(i, j, k));
+        const bool interior = level.cells[cell] == grid::CellType::INTERIOR;
+        type.values.push_back(static_cast<double>(level.cells[cell]));
+        pressure.values.push_back(interior ? mg.solution(3, cell) : 0.0);
+        if (level.cells[cell] == grid::CellType::EXTERIOR) von_mises[c] = 0.0;
+      }
+  image.cell_data = {type, pressure, {"von_mises", 1, von_mises}};
+  return image;
+}
+
+// Writes one frame's files and the series so far; returns the frame's .pvd entries.
+template <typename Scalar>
+std::vector<io::SeriesEntry> write_frame(const grid::Multigrid<3, Scalar>& mg,
+                                         const scene::GridSetup& setup, const scene::Scene& s,
+                                         const std::filesystem::path& dir, int frame, double time) {
+  const auto value = [&](int f, std::ptrdiff_t k) { return mg.solution(f, k); };
+  const grid::NodeDisplacement u = grid::node_displacement<Scalar>(mg.finest(), value);
+  std::vector<io::SeriesEntry> entries;
+  if (wants(s, "vtk")) {
+    const std::string name = frame_name("grid", frame, "vti");
+    io::write_vti(dir / name, grid_fields(mg, u, s));
+    entries.push_back({time, name, 0});
+  }
+  const auto& rest = setup.surface.vertices;
+  grid::PointRows deformed;
+  const auto method = s.surface_interpolation == "trilinear" ? grid::SurfaceInterpolation::TRILINEAR
+                                                             : grid::SurfaceInterpolation::TRICUBIC;
+  grid::displace_points(u, method, rest, deformed);
+  const auto& triangles = setup.surface.triangles;
+  if (wants(s, "vtk")) {
+    const std::string name = frame_name("surface", frame, "vtp");
+    io::DataArray displacement{"displacement", 3, {}};
+    const grid::PointRows d = deformed - rest;
+    displacement.values.assign(d.data(), d.data() + d.size());
+    io::write_vtp(dir / name, deformed, triangles, {displacement});
+    entries.push_back({time, name, 1});
+  }
+  if (wants(s, "obj"))
+    io::write_obj(dir / frame_name("surface", frame, "obj"), deformed, triangles);
+  if (wants(s, "ply"))
+    io::write_ply(dir / frame_name("surface", frame, "ply"), deformed, triangles, true);
+  return entries;
+}
+
+struct Totals {
+  int cycles = 0;
+  double solve_seconds = 0, output_seconds = 0, worst_residual = 0;
+};
+
+template <typename Scalar>
+void simulate(const scene::Scene& s, const scene::GridSetup& setup,
+              const std::filesystem::path& dir, double setup_seconds) {
+  grid::MultigridOptions options;
+  options.boundary_sweeps = s.boundary_sweeps;
+  options.cycle = s.cycle == "W" ? grid::CycleType::W : grid::CycleType::V;
+  Timer timer;
+  grid::Multigrid<3, Scalar> mg(setup.problem, options);
+  const double hierarchy_seconds = timer.seconds();
+  std::printf("hierarchy: %d levels, %zu unknowns, %.0f MB (%.2f s)\n", mg.levels(), mg.unknowns(),
+              mg.bytes() / 1e6, hierarchy_seconds);
+  Progress progress("frames", s.time.frames);
+  std::vector<io::SeriesEntry> series;
+  Totals totals;
+  for (int frame = 0; frame < s.time.frames; ++frame) {
+    // Frame k shows the equilibrium at time (k + 1) dt (after the first interval).
+    const double time = (frame + 1) * s.time.dt;
+    if (setup.animated()) mg.set_dirichlet_displacement(scene::dirichlet_displacement(setup, time));
+    const grid::SolveReport report = s.accelerate ? mg.solve_accelerated(s.tolerance, s.max_vcycles)
+                                                  : mg.solve(s.tolerance, s.max_vcycles);
+    const double relative =
+        report.residuals.front() > 0 ? report.residuals.back() / report.residuals.front() : 0.0;
+    totals.cycles += report.cycles();
+    totals.solve_seconds += report.seconds;
+    totals.worst_residual = std::max(totals.worst_residual, relative);
+    timer.restart();
+    for (const auto& e : write_frame(mg, setup, s, dir, frame, time)) series.push_back(e);
+    if (!series.empty()) io::write_pvd(dir / "simulation.pvd", series);
+    totals.output_seconds += timer.seconds();
+    char status[160];
+    std::snprintf(status, sizeof status, "t = %.3f s  %d cycles  relative residual %.2e%s", time,
+                  report.cycles(), relative, report.converged ? "" : " (NOT converged)");
+    progress.update(frame + 1, status);
+  }
+  progress.finish();
+  const auto& ph = mg.phase_seconds();
+  std::printf(
+      "summary: %zu interior + %zu Dirichlet cells (lattice %d x %d x %d, h = %.4g m), %d levels, "
+      "%d frames, %d %s-cycles%s, worst relative residual %.2e\n"
+      "time: setup %.2f s, hierarchy %.2f s, solve %.2f s (boundary %.2f, interior %.2f, residual "
+      "%.2f, transfers %.2f, coarse %.2f), output %.2f s\n",
+      setup.interior_cells, setup.dirichlet_cells, setup.voxels.dims[0], setup.voxels.dims[1],
+      setup.voxels.dims[2], setup.voxels.cell_size, mg.levels(), s.time.frames, totals.cycles,
+      s.cycle.c_str(), s.accelerate ? " (FGMRES-accelerated)" : "", totals.worst_residual,
+      setup_seconds, hierarchy_seconds, totals.solve_seconds, ph.boundary_smoothing,
+      ph.interior_smoothing, ph.residual, ph.restriction + ph.prolongation, ph.coarse_solve,
+      totals.output_seconds);
+  if (totals.worst_residual > s.tolerance)
+    std::printf("warning: some frames did not reach the tolerance %.1e within %d cycles\n",
+                s.tolerance, s.max_vcycles);
+  std::printf("wrote %s\n", dir.string().c_str());
+}
+
+}  // namespace
+
+void run_grid_scene(const scene::Scene& s, const std::filesystem::path& dir) {
+  if (!s.time.quasistatic)
+    throw Error("dynamic runs of the grid engine are not implemented yet (set quasistatic: true)",
+                ErrorContext{.file = s.file, .pointer = "/time/quasistatic"});
+  Timer timer;
+  const scene::GridSetup setup = scene::build_grid_setup(s);
+  const double setup_seconds = timer.seconds();
+  std::printf(
+      "scene %s: %zu interior cells, %zu Dirichlet cells, lattice %d x %d x %d, surface %td "
+      "triangles%s\n",
+      s.file.c_str(), setup.interior_cells, setup.dirichlet_cells, setup.voxels.dims[0],
+      setup.voxels.dims[1], setup.voxels.dims[2], setup.surface.triangle_count(),
+      setup.traction_triangles ? " (some under traction)" : "");
+  if (s.precision == "double") {
+    simulate<double>(s, setup, dir, setup_seconds);
+  } else {
+    simulate<float>(s, setup, dir, setup_seconds);
+  }
+}
+
+}  // namespace mgelastic::app

@@ -1,0 +1,14 @@
+#pragma once
+// `mgelastic run` for the grid engine: a quasistatic solve per frame (keyframed Dirichlet regions
+// move between frames, each solve warm-started from the last), writing after every frame the
+// lattice fields (.vti), the deformed embedded surface (.vtp, and .obj/.ply when asked) and the
+// .pvd series, so an interrupted run leaves every finished frame readable.
+#include <filesystem>
+
+#include "mgelastic/scene/scene.hpp"
+
+namespace mgelastic::app {
+
+void run_grid_scene(const scene::Scene& s, const std::filesystem::path& dir);
+
+}  // namespace mgelastic::app

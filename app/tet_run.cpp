@@ -1,0 +1,263 @@
+#include "tet_run.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "mgelastic/core/error.hpp"
+#include "mgelastic/core/timer.hpp"
+#include "mgelastic/geometry/tet_mesh_vtu.hpp"
+#include "mgelastic/io/surface_mesh_writers.hpp"
+#include "mgelastic/io/vtk_writers.hpp"
+#include "mgelastic/scene/tet_setup.hpp"
+#include "mgelastic/tet/corotated_solver.hpp"
+#include "mgelastic/tet/polar_rotation.hpp"
+
+namespace mgelastic::app {
+namespace {
+
+// Rotation/solve rounds of one quasistatic frame. The frozen-rotation iteration of solve_static
+// converges linearly, slower the more the body is twisted (~0.97 per round for a bar stretched
+// 2.5x and turned once), so the cap is generous.
+constexpr int kStaticRounds = 300;
+
+bool wants(const scene::Scene& s, const std::string& format) {
+  return std::find(s.formats.begin(), s.formats.end(), format) != s.formats.end();
+}
+
+std::string frame_name(const std::string& stem, int frame, const std::string& extension) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "_%04d.", frame);
+  return stem + buffer + extension;
+}
+
+// The boundary of a tet mesh: faces used by exactly one tetrahedron, oriented outward, on a
+// compact vertex list. `mesh_vertex[i]` is the mesh vertex of surface vertex i.
+struct BoundarySurface {
+  std::vector<int> mesh_vertex;
+  io::SurfaceTriangles triangles;
+};
+
+BoundarySurface boundary_surface(const geometry::TetMesh& mesh) {
+  // For a positively oriented tet (v0..v3) these faces have right-hand normals pointing away
+  // from the opposite vertex.
+  static constexpr std::array<std::array<int, 3>, 4> kFaces = {
+      {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}}};
+  std::map<std::array<int, 3>, std::pair<int, std::array<int, 3>>> faces;  // sorted -> count, face
+  for (int t = 0; t < mesh.tet_count(); ++t)
+    for (const auto& f : kFaces) {
+      const std::array<int, 3> face{mesh.tets(t, f[0]), mesh.tets(t, f[1]), mesh.tets(t, f[2])};
+      std::array<int, 3> key = face;
+      std::sort(key.begin(), key.end());
+      auto [it, inserted] = faces.try_emplace(key, 0, face);
+      ++it->second.first;
+    }
+  BoundarySurface surface;
+  std::vector<int> surface_vertex(mesh.vertex_count(), -1);
+  std::vector<std::array<int, 3>> triangles;
+  for (const auto& [key, entry] : faces) {
+    if (entry.first != 1) continue;
+    std::array<int, 3> triangle;
+    for (int k = 0; k < 3; ++k) {
+      int& id = surface_vertex[entry.second[k]];
+      if (id < 0) {
+        id = static_cast<int>(surface.mesh_vertex.size());
+        surface.mesh_vertex.push_back(entry.second[k]);
+      }
+      triangle[k] = id;
+    }
+    triangles.push_back(triangle);
+  }
+  surface.triangles.resize(static_cast<Eigen::Index>(triangles.size()), 3);
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k)
+      surface.triangles(static_cast<Eigen::Index>(t), k) = triangles[t][k];
+  return surface;
+}
+
+// Von Mises stress of the corotated linear stress per element: strain
+// eps = sym(R^T F) - I with R the polar rotation of F at the output positions (independent of the
+// rotation method the solver used), sigma = lambda tr(eps) I + 2 mu eps,
+// von Mises = sqrt(3/2 dev(sigma):dev(sigma)).
+Eigen::MatrixXd von_mises_stress(const tet::TetBody& body, const Eigen::VectorXd& positions) {
+  Eigen::MatrixXd stress(body.element_count(), 1);
+  for (int e = 0; e < body.element_count(); ++e) {
+    const Eigen::Matrix3d f =
+        tet::deformation_gradient(body.corners(e, positions), body.rest_edge_inverse(e));
+    const Eigen::Matrix3d unrotated = tet::polar_rotation(f).transpose() * f;
+    const Eigen::Matrix3d strain =
+        0.5 * (unrotated + unrotated.transpose()) - Eigen::Matrix3d::Identity();
+    const Eigen::Vector2d lame = tet::lame_parameters(body.materials()[e]);
+    const Eigen::Matrix3d sigma =
+        lame[0] * strain.trace() * Eigen::Matrix3d::Identity() + 2.0 * lame[1] * strain;
+    const Eigen::Matrix3d deviator = sigma - sigma.trace() / 3.0 * Eigen::Matrix3d::Identity();
+    stress(e, 0) = std::sqrt(1.5 * deviator.squaredNorm());
+  }
+  return stress;
+}
+
+// Writes one frame's files; returns its .pvd entries.
+std::vector<io::SeriesEntry> write_frame(const scene::Scene& s, const scene::TetSetup& setup,
+                                         const tet::CorotatedSolver& solver,
+                                         const BoundarySurface& surface,
+                                         const std::filesystem::path& dir, int frame, double time) {
+  std::vector<io::SeriesEntry> entries;
+  const Eigen::MatrixX3d positions = solver.positions_matrix();
+  const Eigen::MatrixX3d displacement = positions - setup.mesh.vertices;
+  io::SurfaceVertices surface_vertices(static_cast<Eigen::Index>(surface.mesh_vertex.size()), 3);
+  for (std::size_t i = 0; i < surface.mesh_vertex.size(); ++i)
+    surface_vertices.row(static_cast<Eigen::Index>(i)) = positions.row(surface.mesh_vertex[i]);
+  if (wants(s, "vtk")) {
+    geometry::TetMesh deformed = setup.mesh;
+    deformed.vertices = positions;
+    const std::string name = frame_name("tet", frame, "vtu");
+    const geometry::VtuField point_fields[] = {{"displacement", displacement}};
+    const geometry::VtuField cell_fields[] = {
+        {"von_mises", von_mises_stress(solver.body(), solver.positions())}};
+    geometry::write_vtu(dir / name, deformed, point_fields, cell_fields);
+    entries.push_back({time, name, 0});
+    const std::string surface_name = frame_name("surface", frame, "vtp");
+    io::DataArray surface_displacement{"displacement", 3, {}};
+    for (int v : surface.mesh_vertex)
+      for (int k = 0; k < 3; ++k) surface_displacement.values.push_back(displacement(v, k));
+    io::write_vtp(dir / surface_name, surface_vertices, surface.triangles, {surface_displacement});
+    entries.push_back({time, surface_name, 1});
+  }
+  if (wants(s, "obj"))
+    io::write_obj(dir / frame_name("surface", frame, "obj"), surface_vertices, surface.triangles);
+  if (wants(s, "ply"))
+    io::write_ply(dir / frame_name("surface", frame, "ply"), surface_vertices, surface.triangles,
+                  true);
+  return entries;
+}
+
+// Work of one frame: its steps (or static rounds) summed.
+struct FrameStats {
+  int steps = 0;
+  int iterations = 0;
+  double worst_residual = 0.0;
+  bool converged = true;
+  double rotate_seconds = 0.0, assemble_seconds = 0.0, solve_seconds = 0.0;
+  void add(const tet::StepStats& step) {
+    iterations += step.solve.iterations;
+    worst_residual = std::max(worst_residual, step.solve.relative_residual);
+    converged = converged && step.solve.converged;
+    rotate_seconds += step.rotate_seconds;
+    assemble_seconds += step.assemble_seconds;
+    solve_seconds += step.solve_seconds;
+  }
+};
+
+const char* rotation_name(tet::RotationMethod method) {
+  switch (method) {
+    case tet::RotationMethod::POLAR:
+      return "polar decomposition";
+    case tet::RotationMethod::POLAR_SMOOTHED:
+      return "smoothed polar decomposition";
+    case tet::RotationMethod::ENERGY_MINIMIZATION:
+      break;
+  }
+  return "energy minimization";
+}
+
+}  // namespace
+
+void run_tet_scene(const scene::Scene& s, const std::filesystem::path& output_dir) {
+  Timer timer;
+  const scene::TetSetup setup = scene::build_tet_setup(s);
+  tet::CorotatedSolver solver(setup.mesh, setup.materials, setup.settings);
+  solver.set_dirichlet(setup.dirichlet_vertices, setup.motion);
+  const BoundarySurface surface = boundary_surface(setup.mesh);
+  const double setup_seconds = timer.seconds();
+  std::error_code ec;
+  std::filesystem::create_directories(output_dir, ec);
+  if (ec)
+    throw Error("cannot create the output directory: " + ec.message(),
+                ErrorContext{.file = output_dir.string()});
+
+  const bool pcg = setup.settings.linear_solver == tet::LinearSolver::PCG;
+  char mesh[160] = "", stepping[160] = "quasistatic (one equilibrium per frame)";
+  std::snprintf(mesh, sizeof mesh, "%s", setup.mesh_source.c_str());
+  if (setup.cell_size > 0)
+    std::snprintf(mesh, sizeof mesh, "%s, cube edge %.4g m", setup.mesh_source.c_str(),
+                  setup.cell_size);
+  if (!s.time.quasistatic)
+    std::snprintf(stepping, sizeof stepping, "dynamic, %d %s step(s) of %.4g s per frame",
+                  s.time.substeps, s.time.integrator.c_str(), setup.settings.time_step);
+  std::printf(
+      "scene %s: tet engine, %d vertices, %d tets (%s), %zu Dirichlet vertices, %td surface "
+      "triangles\n"
+      "  %s, rotations by %s, %s, %d frames of %.4g s\n",
+      s.file.c_str(), setup.mesh.vertex_count(), setup.mesh.tet_count(), mesh,
+      setup.dirichlet_vertices.size(), surface.triangles.rows(), stepping,
+      rotation_name(setup.settings.rotation_method), pcg ? "block-Jacobi PCG" : "sparse Cholesky",
+      s.time.frames, s.time.dt);
+  std::fflush(stdout);
+
+  std::vector<io::SeriesEntry> series;
+  FrameStats total;
+  double output_seconds = 0.0;
+  int unconverged_frames = 0;
+  for (int frame = 0; frame < s.time.frames; ++frame) {
+    // Frame k shows the state at time (k + 1) dt, as in the grid engine.
+    const double time = (frame + 1) * s.time.dt;
+    FrameStats stats;
+    if (s.time.quasistatic) {
+      // The clock decides where the keyframed regions are; the previous equilibrium is the start.
+      solver.set_time(time);
+      const tet::StepStats& step = solver.solve_static(kStaticRounds, s.tet.tolerance);
+      stats.add(step);
+      stats.steps = step.static_iterations;
+      stats.converged = stats.converged && step.static_converged;
+    } else {
+      for (int k = 0; k < s.time.substeps; ++k) {
+        stats.add(solver.step());
+        ++stats.steps;
+      }
+    }
+    unconverged_frames += stats.converged ? 0 : 1;
+    total.steps += stats.steps;
+    total.iterations += stats.iterations;
+    total.worst_residual = std::max(total.worst_residual, stats.worst_residual);
+    total.rotate_seconds += stats.rotate_seconds;
+    total.assemble_seconds += stats.assemble_seconds;
+    total.solve_seconds += stats.solve_seconds;
+
+    timer.restart();
+    for (const auto& entry : write_frame(s, setup, solver, surface, output_dir, frame, time))
+      series.push_back(entry);
+    if (!series.empty()) io::write_pvd(output_dir / "simulation.pvd", series);
+    const double frame_output_seconds = timer.seconds();
+    output_seconds += frame_output_seconds;
+    const std::string iterations =
+        pcg ? "  " + std::to_string(stats.iterations) + " PCG iterations" : std::string();
+    std::printf(
+        "frame %4d/%d  t = %.4f s  %d %s%s  residual %.2e%s  rotate %.3f s  assemble %.3f s  "
+        "solve %.3f s  output %.3f s\n",
+        frame + 1, s.time.frames, time, stats.steps, s.time.quasistatic ? "rounds" : "steps",
+        iterations.c_str(), stats.worst_residual, stats.converged ? "" : " (NOT converged)",
+        stats.rotate_seconds, stats.assemble_seconds, stats.solve_seconds, frame_output_seconds);
+    std::fflush(stdout);
+  }
+  const std::string iterations =
+      pcg ? ", " + std::to_string(total.iterations) + " PCG iterations" : std::string();
+  std::printf(
+      "summary: %d vertices, %d tets, %zu Dirichlet vertices, %d frames, %d %s%s, worst "
+      "relative residual %.2e\n"
+      "time: setup %.2f s, rotate %.2f s, assemble %.2f s, solve %.2f s, output %.2f s\n",
+      setup.mesh.vertex_count(), setup.mesh.tet_count(), setup.dirichlet_vertices.size(),
+      s.time.frames, total.steps, s.time.quasistatic ? "static rounds" : "steps",
+      iterations.c_str(), total.worst_residual, setup_seconds, total.rotate_seconds,
+      total.assemble_seconds, total.solve_seconds, output_seconds);
+  if (unconverged_frames > 0)
+    std::printf("warning: %d frame(s) did not converge (%s)\n", unconverged_frames,
+                s.time.quasistatic ? "the static iteration or PCG did not reach tet.tolerance"
+                                   : "PCG stopped at tet.max_iterations before tet.tolerance");
+  std::printf("wrote %s\n", output_dir.string().c_str());
+}
+
+}  // namespace mgelastic::app

@@ -1,0 +1,48 @@
+#pragma once
+// From a scene to the tet engine's problem (Georgii & Westermann 2008, Sec. 2): a tetrahedral
+// mesh, per-element materials, the Dirichlet vertices with their prescribed motion, and the
+// solver settings.
+//
+// Mesh: a `geometry` that is {"mesh": file} with a tet-mesh extension (.msh, .mesh, .node, .ele)
+// is read as it is (its `transform`, if any, applied to the vertices); any other geometry
+// (primitives, CSG, a closed surface mesh) is meshed by a regular tet grid: cubes of edge
+// longest bounding-box extent / tet.resolution whose centers are inside, six Kuhn tetrahedra per
+// cube. The grid is centered on the bounding box so the mesh is as symmetric as the body.
+// Constraints: every vertex whose rest position is inside a constraint region is a Dirichlet
+// vertex and follows that region's rigid keyframed motion (the first region listed wins where
+// regions overlap).
+// Settings: one solver step is time.dt / time.substeps; time.mass_damping and time.damping are
+// the Rayleigh coefficients alpha (of M) and beta (of K~).
+#include <string>
+#include <vector>
+
+#include "mgelastic/geometry/tet_mesh.hpp"
+#include "mgelastic/scene/scene.hpp"
+#include "mgelastic/tet/corotated_solver.hpp"
+#include "mgelastic/tet/element_materials.hpp"
+
+namespace mgelastic::scene {
+
+struct TetSetup {
+  geometry::TetMesh mesh;
+  tet::ElementMaterials materials;
+  std::vector<int> dirichlet_vertices;  // sorted, each once
+  // Per mesh vertex: index into Scene::constraints of the region that holds it, or -1 (free).
+  std::vector<int> vertex_constraint;
+  tet::DirichletMotion motion;  // position(rest, time) of the vertex's region
+  tet::CorotatedSolverSettings settings;
+  double cell_size = 0.0;   // edge of the generating grid's cubes; 0 for a mesh read from a file
+  std::string mesh_source;  // the tet-mesh file, or "regular tet grid"
+  // True when some region moves (keyframed), i.e. frames differ even for a quasistatic run.
+  bool animated = false;
+};
+
+// Extensions read as tetrahedral meshes (geometry::read_tet_mesh); case-insensitive.
+bool is_tet_mesh_file(const std::filesystem::path& path);
+
+// Throws Error as `file: /json/pointer: reason`: unreadable or invalid tet-mesh files (the reason
+// carries the mesh reader's own message), a region that selects no vertex, surface tractions
+// (not implemented in the tet engine), a quasistatic scene without constraints.
+TetSetup build_tet_setup(const Scene& scene);
+
+}  // namespace mgelastic::scene

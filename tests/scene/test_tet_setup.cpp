@@ -1,0 +1,201 @@
+// From a scene to the tet engine: generated meshes, Dirichlet vertices of regions, keyframed
+// vertex motion, tet-mesh files and the errors that name the scene pointer.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "mgelastic/core/error.hpp"
+#include "mgelastic/scene/scene.hpp"
+#include "mgelastic/scene/tet_setup.hpp"
+#include "tet/tet_test_support.hpp"
+
+namespace mgelastic::scene {
+namespace {
+
+// Coordinates of generated vertices are sums of a few multiples of h: exact to a few ulps.
+constexpr double kCoordinate = 1e-12;
+
+// A bar [-0.5, 0.5] x [-0.1, 0.1] x [-0.1, 0.1] with tet.resolution 10 (h = 0.1: 10 x 2 x 2
+// cubes), its left end fixed and its right end keyframed (stretched and twisted about x).
+nlohmann::json bar_scene() {
+  return nlohmann::json::parse(R"({
+    "engine": "tet",
+    "geometry": {"box": {"size": [1.0, 0.2, 0.2]}},
+    "material": {"youngs_modulus": 1e5, "poisson_ratio": 0.3, "density": 1000},
+    "constraints": [
+      {"region": {"box": {"center": [-0.5, 0, 0], "size": [0.02, 1, 1]}}},
+      {"region": {"box": {"center": [0.5, 0, 0], "size": [0.02, 1, 1]}},
+       "motion": "keyframed", "pivot": [0.5, 0, 0],
+       "keyframes": [{"time": 0},
+                     {"time": 1, "translate": [0.4, 0, 0], "rotate_axis": [1, 0, 0],
+                      "rotate_degrees": 90}]}
+    ],
+    "time": {"dt": 0.1, "substeps": 4, "quasistatic": false, "mass_damping": 2, "damping": 0.01},
+    "tet": {"resolution": 10, "rotation": "polar", "linear_solver": "cholesky"}
+  })");
+}
+
+double mesh_volume(const geometry::TetMesh& mesh) {
+  double volume = 0.0;
+  for (int t = 0; t < mesh.tet_count(); ++t) {
+    const auto c = mesh.corners(t);
+    volume += geometry::signed_volume6(c.col(0), c.col(1), c.col(2), c.col(3)) / 6.0;
+  }
+  return volume;
+}
+
+std::string error_of(const nlohmann::json& document, const std::filesystem::path& dir = ".") {
+  try {
+    build_tet_setup(parse_scene(document, "scene.json", dir));
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(TetSetup, GeneratedBoxMeshIsTheBoxExactly) {
+  const TetSetup setup = build_tet_setup(parse_scene(bar_scene(), "scene.json", "."));
+  EXPECT_DOUBLE_EQ(setup.cell_size, 0.1);
+  EXPECT_EQ(setup.mesh.tet_count(), 10 * 2 * 2 * 6);
+  EXPECT_NEAR(mesh_volume(setup.mesh), 0.04, 0.04 * kCoordinate);
+  EXPECT_NEAR(setup.mesh.vertices.col(0).minCoeff(), -0.5, kCoordinate);
+  EXPECT_NEAR(setup.mesh.vertices.col(1).maxCoeff(), 0.1, kCoordinate);
+}
+
+TEST(TetSetup, GeneratedSphereMeshCoversTheBallVolume) {
+  // Cubes whose center is inside: the volume error is a boundary-layer sum of cut cubes that
+  // mostly cancels; at 20 cubes across a ball of radius 0.5 it stays well under 3 %.
+  auto scene = bar_scene();
+  scene["geometry"] = {{"sphere", {{"radius", 0.5}}}};
+  scene["constraints"] = nlohmann::json::array();
+  scene["tet"]["resolution"] = 20;
+  const TetSetup setup = build_tet_setup(parse_scene(scene, "scene.json", "."));
+  const double ball = 4.0 / 3.0 * std::numbers::pi * std::pow(0.5, 3);
+  EXPECT_NEAR(mesh_volume(setup.mesh) / ball, 1.0, 0.03);
+  // Centered grid: the mesh is as symmetric as the ball.
+  EXPECT_NEAR(setup.mesh.vertices.col(0).minCoeff(), -setup.mesh.vertices.col(0).maxCoeff(),
+              kCoordinate);
+}
+
+TEST(TetSetup, DirichletVerticesAreTheVerticesInsideTheRegions) {
+  const TetSetup setup = build_tet_setup(parse_scene(bar_scene(), "scene.json", "."));
+  // Each end face has 3 x 3 grid points.
+  ASSERT_EQ(setup.dirichlet_vertices.size(), 18u);
+  for (int v = 0; v < setup.mesh.vertex_count(); ++v) {
+    const double x = setup.mesh.vertices(v, 0);
+    const int expected = std::abs(x + 0.5) < 0.01 ? 0 : (std::abs(x - 0.5) < 0.01 ? 1 : -1);
+    EXPECT_EQ(setup.vertex_constraint[v], expected) << "vertex " << v;
+  }
+}
+
+TEST(TetSetup, FirstRegionListedWinsWhereRegionsOverlap) {
+  auto scene = bar_scene();
+  scene["constraints"][0]["region"] = {{"box", {{"size", {3, 3, 3}}}}};  // everything
+  const TetSetup setup = build_tet_setup(parse_scene(scene, "scene.json", "."));
+  EXPECT_EQ(static_cast<int>(setup.dirichlet_vertices.size()), setup.mesh.vertex_count());
+  for (int c : setup.vertex_constraint) EXPECT_EQ(c, 0);
+}
+
+TEST(TetSetup, KeyframedVerticesFollowTheRegionsRigidMotion) {
+  const TetSetup setup = build_tet_setup(parse_scene(bar_scene(), "scene.json", "."));
+  ASSERT_TRUE(setup.animated);
+  // Halfway between the keys: translation 0.2 along x, 45 degrees about the x axis through the
+  // pivot (slerp at constant angular speed).
+  const Eigen::AngleAxisd half_turn(std::numbers::pi / 4, Eigen::Vector3d::UnitX());
+  for (int v : setup.dirichlet_vertices) {
+    const Eigen::Vector3d rest = setup.mesh.vertices.row(v).transpose();
+    const Eigen::Vector3d at = setup.motion(v, rest, 0.5);
+    if (setup.vertex_constraint[v] == 0) {
+      EXPECT_LT((at - rest).norm(), kCoordinate) << "fixed vertex " << v << " moved";
+      continue;
+    }
+    const Eigen::Vector3d pivot(0.5, 0, 0);
+    const Eigen::Vector3d expected =
+        half_turn * (rest - pivot) + pivot + Eigen::Vector3d(0.2, 0, 0);
+    EXPECT_LT((at - expected).norm(), kCoordinate) << "vertex " << v;
+    // After the last key the pose holds.
+    EXPECT_LT((setup.motion(v, rest, 3.0) - setup.motion(v, rest, 1.0)).norm(), kCoordinate);
+  }
+}
+
+TEST(TetSetup, SettingsComeFromTheScene) {
+  const TetSetup setup = build_tet_setup(parse_scene(bar_scene(), "scene.json", "."));
+  EXPECT_DOUBLE_EQ(setup.settings.time_step, 0.1 / 4);
+  EXPECT_EQ(setup.settings.rotation_method, tet::RotationMethod::POLAR);
+  EXPECT_EQ(setup.settings.linear_solver, tet::LinearSolver::CHOLESKY);
+  EXPECT_DOUBLE_EQ(setup.settings.rayleigh_alpha, 2.0);
+  EXPECT_DOUBLE_EQ(setup.settings.rayleigh_beta, 0.01);
+  EXPECT_DOUBLE_EQ(setup.settings.gravity.y(), -9.81);
+  EXPECT_DOUBLE_EQ(setup.materials.youngs_modulus[0], 1e5);
+}
+
+TEST(TetSetup, RegionSelectingNoVertexNamesItsPointer) {
+  auto scene = bar_scene();
+  scene["constraints"][1]["region"] = {{"sphere", {{"center", {5, 5, 5}}, {"radius", 0.1}}}};
+  const std::string error = error_of(scene);
+  EXPECT_EQ(error.rfind("scene.json: /constraints/1/region: the region contains no vertex", 0), 0u)
+      << error;
+}
+
+TEST(TetSetup, UnsupportedInputsNameTheirPointer) {
+  auto traction = bar_scene();
+  traction["loads"] = {{"tractions", {{{"region", {{"sphere", {{"radius", 1}}}}}}}}};
+  EXPECT_EQ(error_of(traction).rfind("scene.json: /loads/tractions: ", 0), 0u)
+      << error_of(traction);
+  auto free_static = bar_scene();
+  free_static["constraints"] = nlohmann::json::array();
+  free_static["time"]["quasistatic"] = true;
+  EXPECT_EQ(error_of(free_static).rfind("scene.json: /constraints: ", 0), 0u)
+      << error_of(free_static);
+}
+
+// The unit corner tetrahedron in TetGen format (1-based indices).
+constexpr const char* kNode = "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n";
+constexpr const char* kEle = "1 4 0\n1 1 2 3 4\n";
+
+TEST(TetSetup, TetMeshFileIsReadAndTransformed) {
+  const test::TempDir dir;
+  dir.write("tet.node", kNode);
+  dir.write("tet.ele", kEle);
+  auto scene = bar_scene();
+  scene["geometry"] = {{"mesh", "tet.node"},
+                       {"transform", {{"translate", {1, 2, 3}}, {"scale", 2}}}};
+  scene["constraints"] = {{{"region", {{"sphere", {{"center", {1, 2, 3}}, {"radius", 0.1}}}}}}};
+  const TetSetup setup = build_tet_setup(parse_scene(scene, "scene.json", dir.path()));
+  EXPECT_EQ(setup.mesh.tet_count(), 1);
+  EXPECT_EQ(setup.cell_size, 0.0);
+  EXPECT_NEAR(setup.mesh.vertices(1, 0), 3.0, kCoordinate);  // 2 * 1 + 1
+  EXPECT_NEAR(mesh_volume(setup.mesh), 8.0 / 6.0, kCoordinate);
+  EXPECT_EQ(setup.dirichlet_vertices, std::vector<int>{0});
+}
+
+TEST(TetSetup, BadTetMeshFileErrorNamesSceneKeyAndMeshLine) {
+  const test::TempDir dir;
+  dir.write("bad.node", kNode);
+  dir.write("bad.ele", "1 4 0\n1 1 2 3 9\n");  // vertex 9 does not exist
+  auto scene = bar_scene();
+  scene["geometry"] = {{"mesh", "bad.ele"}};
+  const std::string error = error_of(scene, dir.path());
+  EXPECT_EQ(error.rfind("scene.json: /geometry/mesh: ", 0), 0u) << error;
+  EXPECT_NE(error.find("bad.ele"), std::string::npos) << error;
+  const std::string missing = [&] {
+    scene["geometry"] = {{"mesh", "missing.msh"}};
+    return error_of(scene, dir.path());
+  }();
+  EXPECT_EQ(missing.rfind("scene.json: /geometry/mesh: ", 0), 0u) << missing;
+  EXPECT_NE(missing.find("missing.msh"), std::string::npos) << missing;
+}
+
+TEST(TetSetup, ExampleSceneBuilds) {
+  const TetSetup setup = build_tet_setup(load_scene(std::filesystem::path(MGELASTIC_SOURCE_DIR) /
+                                                    "examples/scenes/tet_twisted_bar.json"));
+  EXPECT_GT(setup.mesh.tet_count(), 0);
+  EXPECT_TRUE(setup.animated);
+  EXPECT_FALSE(setup.dirichlet_vertices.empty());
+}
+
+}  // namespace
+}  // namespace mgelastic::scene
