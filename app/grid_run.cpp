@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "frame_files.hpp"
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/timer.hpp"
 #include "mgelastic/grid/multigrid.hpp"
@@ -15,16 +16,6 @@
 
 namespace mgelastic::app {
 namespace {
-
-bool wants(const scene::Scene& s, const std::string& format) {
-  return std::find(s.formats.begin(), s.formats.end(), format) != s.formats.end();
-}
-
-std::string frame_name(const std::string& stem, int frame, const std::string& extension) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "_%04d.", frame);
-  return stem + buffer + extension;
-}
 
 template <typename Scalar>
 io::ImageData grid_fields(const grid::Multigrid<3, Scalar>& mg, const grid::NodeDisplacement& u,

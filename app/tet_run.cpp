@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "frame_files.hpp"
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/timer.hpp"
 #include "mgelastic/geometry/tet_mesh_vtu.hpp"
@@ -24,16 +25,6 @@ namespace {
 // converges linearly, slower the more the body is twisted (~0.97 per round for a bar stretched
 // 2.5x and turned once), so the cap is generous.
 constexpr int kStaticRounds = 300;
-
-bool wants(const scene::Scene& s, const std::string& format) {
-  return std::find(s.formats.begin(), s.formats.end(), format) != s.formats.end();
-}
-
-std::string frame_name(const std::string& stem, int frame, const std::string& extension) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "_%04d.", frame);
-  return stem + buffer + extension;
-}
 
 // The boundary of a tet mesh: faces used by exactly one tetrahedron, oriented outward, on a
 // compact vertex list. `mesh_vertex[i]` is the mesh vertex of surface vertex i.

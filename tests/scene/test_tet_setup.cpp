@@ -197,5 +197,34 @@ TEST(TetSetup, ExampleSceneBuilds) {
   EXPECT_FALSE(setup.dirichlet_vertices.empty());
 }
 
+// The paper's horse: stiff legs, soft knees. A material region overrides the tetrahedra whose
+// centroid it holds; the rest keep the scene's material.
+TEST(TetSetup, MaterialRegionsMakeTheBodyHeterogeneous) {
+  auto d = bar_scene();
+  d["material"]["regions"] = nlohmann::json::parse(
+      R"([{"region": {"box": {"center": [0.25, 0, 0], "size": [0.5, 1, 1]}},
+           "youngs_modulus": 1e7, "poisson_ratio": 0.4, "density": 2000}])");
+  const TetSetup setup = build_tet_setup(parse_scene(d, "scene.json", "."));
+  int stiff = 0;
+  for (int t = 0; t < setup.mesh.tet_count(); ++t) {
+    const bool right = setup.mesh.corners(t).row(0).mean() > 0;
+    EXPECT_DOUBLE_EQ(setup.materials.youngs_modulus[t], right ? 1e7 : 1e5);
+    EXPECT_DOUBLE_EQ(setup.materials.density[t], right ? 2000 : 1000);
+    stiff += right;
+  }
+  EXPECT_EQ(stiff, setup.mesh.tet_count() / 2);
+}
+
+TEST(TetSetup, MaterialRegionSelectingNothingNamesItsPointer) {
+  auto d = bar_scene();
+  d["material"]["regions"] = nlohmann::json::parse(
+      R"([{"region": {"sphere": {"center": [5, 5, 5], "radius": 0.1}}, "youngs_modulus": 1e6,
+           "poisson_ratio": 0.3, "density": 900}])");
+  EXPECT_NE(error_of(d).find("scene.json: /material/regions/0/region: the region contains no "
+                             "tetrahedron"),
+            std::string::npos)
+      << error_of(d);
+}
+
 }  // namespace
 }  // namespace mgelastic::scene

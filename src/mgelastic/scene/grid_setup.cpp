@@ -61,6 +61,9 @@ void add_tractions(const Scene& scene, GridSetup& setup) {
 }  // namespace
 
 GridSetup build_grid_setup(const Scene& scene) {
+  if (!scene.material_regions.empty())
+    throw Error("per-region materials are supported by the tet engine only",
+                ErrorContext{.file = scene.file, .pointer = "/material/regions"});
   GridSetup setup;
   setup.body = build_shape(scene.geometry, scene.directory, scene.file, "/geometry");
   setup.voxels = geometry::voxelize(

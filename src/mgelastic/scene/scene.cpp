@@ -73,6 +73,9 @@ Scene parse_scene(const nlohmann::json& document, const std::string& file,
   s.youngs_modulus = d["material"]["youngs_modulus"];
   s.poisson_ratio = d["material"]["poisson_ratio"];
   s.density = d["material"]["density"];
+  for (const auto& m : d["material"]["regions"])
+    s.material_regions.push_back(
+        {m["region"], m["youngs_modulus"], m["poisson_ratio"], m["density"]});
   for (std::size_t c = 0; c < d["constraints"].size(); ++c)
     s.constraints.push_back(parse_constraint(d["constraints"][c], file, c));
   s.gravity = vec3(d["loads"]["gravity"]);

@@ -22,6 +22,11 @@ struct Scene {
   int resolution = 64;
   int padding = 0;
   double youngs_modulus = 1e5, poisson_ratio = 0.45, density = 1000;
+  struct MaterialRegion {
+    nlohmann::json region;
+    double youngs_modulus = 1e5, poisson_ratio = 0.45, density = 1000;
+  };
+  std::vector<MaterialRegion> material_regions;
   struct Constraint {
     nlohmann::json region;
     std::string motion_kind;  // "fixed" or "keyframed"

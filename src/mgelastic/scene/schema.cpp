@@ -67,11 +67,21 @@ Field build_schema() {
       {number("cell_size", "Cell edge length; 0 = derive from `resolution`", "m", 0.0, 0.0),
        integer("resolution", "Cells along the longest axis of the body's bounding box", 64, 4),
        integer("padding", "Extra layers of cells around the body (Sec. 9.2)", 0, 0)});
-  Field material =
-      object("material", "Isotropic linear material",
-             {number("youngs_modulus", "Young's modulus E", "Pa", 1e5, 0.0, true),
-              number("poisson_ratio", "Poisson ratio nu", "", 0.45, 0.0, false, 0.5, true),
-              number("density", "Mass density (gravity load)", "kg/m^3", 1000.0, 0.0, true)});
+  Field material_region = object(
+      "", "A part of the body with its own material (tet engine)",
+      {shape("region", "Tetrahedra whose centroid lies in this shape take this material", true),
+       number("youngs_modulus", "Young's modulus E", "Pa", 1e5, 0.0, true),
+       number("poisson_ratio", "Poisson ratio nu", "", 0.45, 0.0, false, 0.5, true),
+       number("density", "Mass density", "kg/m^3", 1000.0, 0.0, true)});
+  Field material = object(
+      "material", "Isotropic linear material",
+      {number("youngs_modulus", "Young's modulus E", "Pa", 1e5, 0.0, true),
+       number("poisson_ratio", "Poisson ratio nu", "", 0.45, 0.0, false, 0.5, true),
+       number("density", "Mass density (gravity load)", "kg/m^3", 1000.0, 0.0, true),
+       array("regions",
+             "Heterogeneous bodies (tet engine): later regions override earlier ones and the "
+             "material above",
+             material_region)});
   Field keyframe = object(
       "", "Rigid pose of the region at a time: x -> R (x - pivot) + pivot + translate",
       {[] {

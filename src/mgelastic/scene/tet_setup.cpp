@@ -119,6 +119,29 @@ bool is_tet_mesh_file(const std::filesystem::path& path) {
   return extension == ".msh" || extension == ".mesh" || extension == ".node" || extension == ".ele";
 }
 
+namespace {
+
+// Heterogeneous bodies: each material region overrides the tetrahedra whose centroid it holds.
+void assign_region_materials(const Scene& scene, const geometry::TetMesh& mesh,
+                             tet::ElementMaterials& materials) {
+  for (std::size_t r = 0; r < scene.material_regions.size(); ++r) {
+    const auto& m = scene.material_regions[r];
+    const std::string at = "/material/regions/" + std::to_string(r) + "/region";
+    const geometry::ShapePtr region = build_shape(m.region, scene.directory, scene.file, at);
+    int selected = 0;
+    for (int t = 0; t < mesh.tet_count(); ++t) {
+      if (!region->contains(mesh.corners(t).rowwise().mean())) continue;
+      materials.youngs_modulus[t] = m.youngs_modulus;
+      materials.poisson_ratio[t] = m.poisson_ratio;
+      materials.density[t] = m.density;
+      ++selected;
+    }
+    if (selected == 0) fail(scene, at, "the region contains no tetrahedron of the body");
+  }
+}
+
+}  // namespace
+
 TetSetup build_tet_setup(const Scene& scene) {
   if (!scene.tractions.empty())
     fail(scene, "/loads/tractions", "surface tractions are not implemented in the tet engine");
@@ -132,6 +155,7 @@ TetSetup build_tet_setup(const Scene& scene) {
   const geometry::TetMesh& mesh = setup.mesh;
   setup.materials = tet::ElementMaterials::uniform(
       mesh.tet_count(), {scene.youngs_modulus, scene.poisson_ratio, scene.density});
+  assign_region_materials(scene, mesh, setup.materials);
 
   // Dirichlet vertices: rest positions inside a region; the first region listed claims a vertex.
   setup.vertex_constraint.assign(mesh.vertex_count(), -1);
