@@ -11,6 +11,7 @@
 #include "frame_files.hpp"
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/timer.hpp"
+#include "mgelastic/geometry/tet_mesh_boundary.hpp"
 #include "mgelastic/geometry/tet_mesh_vtu.hpp"
 #include "mgelastic/io/surface_mesh_writers.hpp"
 #include "mgelastic/io/vtk_writers.hpp"
@@ -26,49 +27,7 @@ namespace {
 // 2.5x and turned once), so the cap is generous.
 constexpr int kStaticRounds = 300;
 
-// The boundary of a tet mesh: faces used by exactly one tetrahedron, oriented outward, on a
-// compact vertex list. `mesh_vertex[i]` is the mesh vertex of surface vertex i.
-struct BoundarySurface {
-  std::vector<int> mesh_vertex;
-  io::SurfaceTriangles triangles;
-};
-
-BoundarySurface boundary_surface(const geometry::TetMesh& mesh) {
-  // For a positively oriented tet (v0..v3) these faces have right-hand normals pointing away
-  // from the opposite vertex.
-  static constexpr std::array<std::array<int, 3>, 4> kFaces = {
-      {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}}};
-  std::map<std::array<int, 3>, std::pair<int, std::array<int, 3>>> faces;  // sorted -> count, face
-  for (int t = 0; t < mesh.tet_count(); ++t)
-    for (const auto& f : kFaces) {
-      const std::array<int, 3> face{mesh.tets(t, f[0]), mesh.tets(t, f[1]), mesh.tets(t, f[2])};
-      std::array<int, 3> key = face;
-      std::sort(key.begin(), key.end());
-      auto [it, inserted] = faces.try_emplace(key, 0, face);
-      ++it->second.first;
-    }
-  BoundarySurface surface;
-  std::vector<int> surface_vertex(mesh.vertex_count(), -1);
-  std::vector<std::array<int, 3>> triangles;
-  for (const auto& [key, entry] : faces) {
-    if (entry.first != 1) continue;
-    std::array<int, 3> triangle;
-    for (int k = 0; k < 3; ++k) {
-      int& id = surface_vertex[entry.second[k]];
-      if (id < 0) {
-        id = static_cast<int>(surface.mesh_vertex.size());
-        surface.mesh_vertex.push_back(entry.second[k]);
-      }
-      triangle[k] = id;
-    }
-    triangles.push_back(triangle);
-  }
-  surface.triangles.resize(static_cast<Eigen::Index>(triangles.size()), 3);
-  for (std::size_t t = 0; t < triangles.size(); ++t)
-    for (int k = 0; k < 3; ++k)
-      surface.triangles(static_cast<Eigen::Index>(t), k) = triangles[t][k];
-  return surface;
-}
+using BoundarySurface = geometry::TetMeshBoundary;
 
 // Von Mises stress of the corotated linear stress per element: strain
 // eps = sym(R^T F) - I with R the polar rotation of F at the output positions (independent of the
@@ -162,7 +121,8 @@ void run_tet_scene(const scene::Scene& s, const std::filesystem::path& output_di
   const scene::TetSetup setup = scene::build_tet_setup(s);
   tet::CorotatedSolver solver(setup.mesh, setup.materials, setup.settings);
   solver.set_dirichlet(setup.dirichlet_vertices, setup.motion);
-  const BoundarySurface surface = boundary_surface(setup.mesh);
+  if (setup.surface_forces.size() > 0) solver.set_surface_forces(setup.surface_forces);
+  const BoundarySurface surface = geometry::tet_mesh_boundary(setup.mesh);
   const double setup_seconds = timer.seconds();
   std::error_code ec;
   std::filesystem::create_directories(output_dir, ec);

@@ -10,6 +10,7 @@
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/scene/scene.hpp"
 #include "mgelastic/scene/tet_setup.hpp"
+#include "mgelastic/tet/corotated_solver.hpp"
 #include "tet/tet_test_support.hpp"
 
 namespace mgelastic::scene {
@@ -141,10 +142,6 @@ TEST(TetSetup, RegionSelectingNoVertexNamesItsPointer) {
 }
 
 TEST(TetSetup, UnsupportedInputsNameTheirPointer) {
-  auto traction = bar_scene();
-  traction["loads"] = {{"tractions", {{{"region", {{"sphere", {{"radius", 1}}}}}}}}};
-  EXPECT_EQ(error_of(traction).rfind("scene.json: /loads/tractions: ", 0), 0u)
-      << error_of(traction);
   auto free_static = bar_scene();
   free_static["constraints"] = nlohmann::json::array();
   free_static["time"]["quasistatic"] = true;
@@ -222,6 +219,51 @@ TEST(TetSetup, MaterialRegionSelectingNothingNamesItsPointer) {
            "poisson_ratio": 0.3, "density": 900}])");
   EXPECT_NE(error_of(d).find("scene.json: /material/regions/0/region: the region contains no "
                              "tetrahedron"),
+            std::string::npos)
+      << error_of(d);
+}
+
+// A traction t on the free end face of a bar clamped at the other end: the lumped forces add up
+// to t times the face area, and with nu = 0 the uniform uniaxial stress is exact for linear tets,
+// so the static end displacement is t L / E. Asserted to 1e-3 relative: a ~5e-4 relative
+// deviation at some vertices is not explained yet (docs/tet-engine.md, Left for later).
+TEST(TetSetup, EndTractionGivesTheUniaxialStretch) {
+  auto d = nlohmann::json::parse(R"({
+    "engine": "tet",
+    "geometry": {"box": {"size": [1.0, 0.2, 0.2]}},
+    "material": {"youngs_modulus": 1e5, "poisson_ratio": 0.0, "density": 1000},
+    "constraints": [{"region": {"box": {"center": [-0.5, 0, 0], "size": [0.02, 1, 1]}}}],
+    "loads": {"gravity": [0, 0, 0],
+              "tractions": [{"region": {"box": {"center": [0.5, 0, 0], "size": [0.02, 1, 1]}},
+                             "traction": [10, 0, 0]}]},
+    "tet": {"resolution": 10, "linear_solver": "cholesky"}
+  })");
+  const TetSetup setup = build_tet_setup(parse_scene(d, "scene.json", "."));
+  ASSERT_EQ(setup.surface_forces.size(), 3 * setup.mesh.vertex_count());
+  Eigen::Vector3d total = Eigen::Vector3d::Zero();
+  for (int v = 0; v < setup.mesh.vertex_count(); ++v)
+    total += setup.surface_forces.segment<3>(3 * v);
+  EXPECT_NEAR(total.x(), 10 * 0.2 * 0.2, 1e-12);
+  EXPECT_NEAR(total.tail<2>().norm(), 0.0, 1e-12);
+
+  tet::CorotatedSolver solver(setup.mesh, setup.materials, setup.settings);
+  solver.set_dirichlet(setup.dirichlet_vertices, setup.motion);
+  solver.set_surface_forces(setup.surface_forces);
+  solver.solve_static(50, 1e-12);
+  const Eigen::MatrixX3d x = solver.positions_matrix();
+  const double stretch = 10 * 1.0 / 1e5;  // t L / E
+  for (int v = 0; v < setup.mesh.vertex_count(); ++v) {
+    const double rest = setup.mesh.vertices(v, 0);
+    EXPECT_NEAR(x(v, 0) - rest, stretch * (rest + 0.5), 1e-3 * stretch) << "vertex " << v;
+  }
+}
+
+TEST(TetSetup, TractionRegionWithoutBoundaryFaceNamesItsPointer) {
+  auto d = bar_scene();
+  d["loads"]["tractions"] = nlohmann::json::parse(
+      R"([{"region": {"sphere": {"center": [0, 0, 0], "radius": 0.05}}, "traction": [1, 0, 0]}])");
+  EXPECT_NE(error_of(d).find("scene.json: /loads/tractions/0/region: the region contains no "
+                             "boundary face"),
             std::string::npos)
       << error_of(d);
 }

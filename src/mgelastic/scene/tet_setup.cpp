@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <memory>
@@ -9,6 +10,7 @@
 #include <sstream>
 
 #include "mgelastic/core/error.hpp"
+#include "mgelastic/geometry/tet_mesh_boundary.hpp"
 #include "mgelastic/geometry/tet_mesh_grid.hpp"
 #include "mgelastic/geometry/tet_mesh_readers.hpp"
 #include "mgelastic/scene/build_shape.hpp"
@@ -140,11 +142,34 @@ void assign_region_materials(const Scene& scene, const geometry::TetMesh& mesh,
   }
 }
 
+Eigen::VectorXd traction_forces(const Scene& scene, const geometry::TetMesh& mesh) {
+  if (scene.tractions.empty()) return {};
+  const geometry::TetMeshBoundary boundary = geometry::tet_mesh_boundary(mesh);
+  Eigen::VectorXd forces = Eigen::VectorXd::Zero(3 * mesh.vertex_count());
+  for (std::size_t t = 0; t < scene.tractions.size(); ++t) {
+    const std::string at = "/loads/tractions/" + std::to_string(t) + "/region";
+    const geometry::ShapePtr region =
+        build_shape(scene.tractions[t].region, scene.directory, scene.file, at);
+    int selected = 0;
+    for (Eigen::Index f = 0; f < boundary.triangles.rows(); ++f) {
+      std::array<int, 3> v;
+      for (int k = 0; k < 3; ++k) v[k] = boundary.mesh_vertex[boundary.triangles(f, k)];
+      const Eigen::Vector3d a = mesh.vertices.row(v[0]), b = mesh.vertices.row(v[1]),
+                            c = mesh.vertices.row(v[2]);
+      if (!region->contains((a + b + c) / 3.0)) continue;
+      const double area = 0.5 * (b - a).cross(c - a).norm();
+      for (int k = 0; k < 3; ++k)
+        forces.segment<3>(3 * v[k]) += area / 3.0 * scene.tractions[t].traction;
+      ++selected;
+    }
+    if (selected == 0) fail(scene, at, "the region contains no boundary face of the body");
+  }
+  return forces;
+}
+
 }  // namespace
 
 TetSetup build_tet_setup(const Scene& scene) {
-  if (!scene.tractions.empty())
-    fail(scene, "/loads/tractions", "surface tractions are not implemented in the tet engine");
   if (scene.time.quasistatic && scene.constraints.empty())
     fail(scene, "/constraints",
          "a quasistatic tet run needs at least one constraint (a free body has no equilibrium)");
@@ -156,6 +181,7 @@ TetSetup build_tet_setup(const Scene& scene) {
   setup.materials = tet::ElementMaterials::uniform(
       mesh.tet_count(), {scene.youngs_modulus, scene.poisson_ratio, scene.density});
   assign_region_materials(scene, mesh, setup.materials);
+  setup.surface_forces = traction_forces(scene, mesh);
 
   // Dirichlet vertices: rest positions inside a region; the first region listed claims a vertex.
   setup.vertex_constraint.assign(mesh.vertex_count(), -1);

@@ -31,6 +31,9 @@ struct TetSetup {
   std::vector<int> vertex_constraint;
   tet::DirichletMotion motion;  // position(rest, time) of the vertex's region
   tet::CorotatedSolverSettings settings;
+  // Surface tractions lumped to vertices (3N, N): traction * area / 3 to each corner of every
+  // boundary face whose centroid lies in a traction region; empty when there are none.
+  Eigen::VectorXd surface_forces;
   double cell_size = 0.0;   // edge of the generating grid's cubes; 0 for a mesh read from a file
   std::string mesh_source;  // the tet-mesh file, or "regular tet grid"
   // True when some region moves (keyframed), i.e. frames differ even for a quasistatic run.
@@ -41,8 +44,8 @@ struct TetSetup {
 bool is_tet_mesh_file(const std::filesystem::path& path);
 
 // Throws Error as `file: /json/pointer: reason`: unreadable or invalid tet-mesh files (the reason
-// carries the mesh reader's own message), a region that selects no vertex, surface tractions
-// (not implemented in the tet engine), a quasistatic scene without constraints.
+// carries the mesh reader's own message), a region that selects no vertex, a traction region
+// holding no boundary face, a quasistatic scene without constraints.
 TetSetup build_tet_setup(const Scene& scene);
 
 }  // namespace mgelastic::scene

@@ -82,7 +82,14 @@ Eigen::VectorXd CorotatedSolver::gravity_forces() const {
   Eigen::VectorXd f(m_x.size());
   for (int v = 0; v < m_body.vertex_count(); ++v)
     f.segment<3>(3 * v) = m_body.vertex_mass()[v] * m_settings.gravity;
+  if (m_surface_forces.size() == f.size()) f += m_surface_forces;
   return f;
+}
+
+void CorotatedSolver::set_surface_forces(Eigen::VectorXd forces) {
+  if (forces.size() != m_x.size() || !forces.allFinite())
+    fail("must have 3 finite entries per vertex", "surface forces");
+  m_surface_forces = std::move(forces);
 }
 
 void CorotatedSolver::update_operator(StepStats& stats) {

@@ -71,6 +71,9 @@ class CorotatedSolver {
 
   // Replaces the Dirichlet set; an empty `motion` keeps the vertices at their rest positions.
   void set_dirichlet(std::vector<int> vertices, DirichletMotion motion = {});
+  // Constant external forces on the vertices (3N, N; e.g. surface tractions lumped to the
+  // vertices of the loaded boundary faces), added to gravity.
+  void set_surface_forces(Eigen::VectorXd forces);
   // Advances by one time step; throws Error (naming the phase) on NaN or divergence.
   const StepStats& step();
   // Static equilibrium K~(x) (x - ...) = f_ext at the current time by repeated rotation update and
@@ -123,6 +126,7 @@ class CorotatedSolver {
   std::vector<int> m_dirichlet;
   DirichletMotion m_motion;
   Eigen::VectorXd m_x, m_v, m_a;
+  Eigen::VectorXd m_surface_forces;
   bool m_have_acceleration = false;
   double m_time = 0.0;
   long m_steps = 0;
