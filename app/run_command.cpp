@@ -3,9 +3,10 @@
 #include <filesystem>
 
 #include "grid_run.hpp"
-#include "tet_run.hpp"
+#include "mgelastic/core/error.hpp"
 #include "mgelastic/core/threads.hpp"
 #include "mgelastic/scene/scene.hpp"
+#include "tet_run.hpp"
 
 namespace mgelastic::app {
 namespace {
@@ -20,16 +21,26 @@ struct RunOptions {
 
 void run_scene(const scene::Scene& s, const std::filesystem::path& output) {
   const std::filesystem::path dir = output.empty() ? std::filesystem::path(s.output_dir) : output;
-  if (s.engine == "tet") {
-    run_tet_scene(s, dir);
-    return;
+  try {
+    if (s.engine == "tet") {
+      run_tet_scene(s, dir);
+    } else {
+      run_grid_scene(s, dir);
+    }
+  } catch (const Error& e) {
+    // Engine errors about the set-up (e.g. an unsupported body) name no file: it is the scene's.
+    if (!e.context().file.empty()) throw;
+    ErrorContext context = e.context();
+    context.file = s.file;
+    throw Error(e.reason(), context);
   }
-  run_grid_scene(s, dir);
 }
 
 namespace {
 
 void run(const RunOptions& o) {
+  require(o.threads >= 0, "--threads",
+          "must be >= 0 (0 = all cores), got " + std::to_string(o.threads));
   set_thread_count(o.threads);
   run_scene(scene::load_scene(o.scene), o.output);
 }
@@ -38,7 +49,8 @@ void run(const RunOptions& o) {
 
 void register_run_command(CLI::App& app) {
   static RunOptions options;
-  CLI::App* cmd = app.add_subcommand("run", "Simulate a scene: frames of the grid or tet engine, written as VTK/OBJ/PLY");
+  CLI::App* cmd = app.add_subcommand(
+      "run", "Simulate a scene: frames of the grid or tet engine, written as VTK/OBJ/PLY");
   cmd->add_option("scene", options.scene, "Scene file (JSON)")->required();
   cmd->add_option("--output", options.output, "Output directory (default: the scene's output.dir)");
   cmd->add_option("--threads", options.threads, "Worker threads (default: all cores)");

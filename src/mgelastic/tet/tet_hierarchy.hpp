@@ -1,0 +1,84 @@
+#pragma once
+// Tetrahedral multigrid hierarchy (Georgii & Westermann 2008, Sec. 4.3; hierarchy of [GW05]):
+// level 0 is the simulation mesh; levels 1..L are regular tetrahedral grids (cubes split into six
+// Kuhn tetrahedra, geometry::regular_tet_grid) that cover it, each with twice the cube size of
+// the previous one. Level 1 has cube size `first_cell_factor` (default 2) times the fine mesh's
+// mean edge length. All coarse grids share the origin (the fine bounding box's minimum), so the
+// grid points of level l+1 are grid points of level l and its cubes are unions of 2x2x2 level-l
+// cubes.
+//
+// Coverage: a cube of level l is kept when it overlaps the bounding box of some fine tetrahedron
+// (selected through the cube centre, CubeSelection::CENTER, with an occupancy predicate that is
+// exact for cube centres; a corner test would keep an extra layer of cubes). Hence every vertex
+// of every finer level lies in a kept cube of the next coarser level.
+//
+// Prolongation P_l (level l+1 -> level l): fine vertex v of level l takes the barycentric
+// coordinates of the coarse tetrahedron containing it (the one of its cube with the largest
+// minimum coordinate; among the tets of the 27 surrounding cubes when round-off puts it just
+// outside, then extrapolated linearly, which still reproduces linear fields). Stored as four
+// (coarse vertex, weight) pairs per fine vertex. Restriction R_l = P_l^T.
+//
+// Dirichlet rule: constrained vertices of level l are excluded from the coarse correction: their
+// rows of P_l are zero (weights 0), so the Galerkin operator never sees the identity rows the
+// fine system has there. A coarse vertex of level l+1 is constrained when its support (the fine
+// vertices giving it a non-zero weight) contains only constrained vertices (or is empty); its
+// Galerkin row and column are then zero and the coarse operator puts the identity there.
+//
+// Levels: coarse levels are added until one has <= `max_coarsest_vertices` vertices (or
+// `max_levels` is reached, or a coarsening no longer shrinks the vertex count by 1/4).
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <array>
+#include <vector>
+
+#include "mgelastic/geometry/tet_mesh.hpp"
+
+namespace mgelastic::tet {
+
+// P: fine vertex i -> sum_{s<4} weights[i][s] * coarse value of vertices[i][s] (per component).
+struct Prolongation {
+  int coarse_vertex_count = 0;
+  std::vector<std::array<int, 4>> vertices;    // fine_vertex_count x 4, coarse vertex indices
+  std::vector<std::array<double, 4>> weights;  // fine_vertex_count x 4, 0 on constrained rows
+
+  int fine_vertex_count() const { return static_cast<int>(vertices.size()); }
+  // fine (3 Nf) += P coarse (3 Nc); vectors vertex-major.
+  void prolong_add(const Eigen::VectorXd& coarse, Eigen::VectorXd& fine) const;
+  // coarse (3 Nc) = P^T fine (3 Nf).
+  void restrict_to(const Eigen::VectorXd& fine, Eigen::VectorXd& coarse) const;
+  Eigen::SparseMatrix<double> to_sparse() const;  // 3 Nf x 3 Nc, for tests
+};
+
+struct TetHierarchySettings {
+  double first_cell_factor = 2.0;  // level-1 cube size / mean fine edge length
+  int max_coarsest_vertices = 2000;
+  int max_levels = 12;  // including the fine level
+};
+
+class TetHierarchy {
+ public:
+  // `constrained[v]` != 0 marks a Dirichlet vertex of the fine mesh (size N or empty).
+  // Throws Error for an empty mesh or a constraint vector of the wrong size.
+  TetHierarchy(const geometry::TetMesh& fine, const std::vector<char>& constrained,
+               const TetHierarchySettings& settings = {});
+
+  int level_count() const { return static_cast<int>(m_constrained.size()); }
+  int vertex_count(int level) const { return static_cast<int>(m_constrained[level].size()); }
+  // Prolongation from level + 1 to level, 0 <= level < level_count() - 1.
+  const Prolongation& prolongation(int level) const { return m_prolongations[level]; }
+  const std::vector<char>& constrained(int level) const { return m_constrained[level]; }
+  // The regular grid of a coarse level (1 <= level < level_count()).
+  const geometry::TetMesh& coarse_mesh(int level) const { return m_coarse_meshes[level - 1]; }
+  double cell_size(int level) const { return m_cell_sizes[level - 1]; }
+
+ private:
+  std::vector<geometry::TetMesh> m_coarse_meshes;
+  std::vector<double> m_cell_sizes;
+  std::vector<Prolongation> m_prolongations;
+  std::vector<std::vector<char>> m_constrained;
+};
+
+// Mean edge length over the six edges of every tetrahedron (shared edges counted per tet).
+double mean_edge_length(const geometry::TetMesh& mesh);
+
+}  // namespace mgelastic::tet

@@ -1,0 +1,109 @@
+#pragma once
+// Geometric multigrid for the tet engine's step systems (Georgii & Westermann 2008, Sec. 4.3 and
+// 5: one Gauss-Seidel step for pre- and post-smoothing in a V-cycle).
+//
+// System (level 0): A_0 = m (M (x) I3) + k K~ on the free vertices, identity rows/columns on the
+// constrained ones (the same matrix as StepSystem, block_jacobi_pcg.hpp), stored as a BRC matrix
+// with K~'s pattern. Coarse levels (tet_hierarchy.hpp): A_{l+1} = P_l^T A_l P_l (galerkin_product),
+// plus the identity on the diagonal blocks of constrained coarse vertices (whose rows are zero).
+// The coarsest level is factorized by CHOLMOD (supernodal LLT; the symbolic analysis once).
+//
+// V-cycle on level l (cycle()):  pre-smooth (forward block Gauss-Seidel), residual, restrict
+// (R = P^T), recurse from a zero guess, prolong and add, post-smooth (backward block Gauss-Seidel)
+// ; exact solve on the coarsest level. With forward pre- and backward post-smoothing the cycle
+// from a zero guess is a symmetric positive definite operator, so it serves as a preconditioner
+// for CG (solve_pcg).
+//
+// Vectors are 3N (vertex-major). The solver keeps per-level work vectors: one instance must not
+// be used by several threads at once.
+#include <Eigen/Core>
+#include <memory>
+#include <vector>
+
+#include "mgelastic/geometry/tet_mesh.hpp"
+#include "mgelastic/tet/block_jacobi_pcg.hpp"
+#include "mgelastic/tet/brc_matrix.hpp"
+#include "mgelastic/tet/galerkin_product.hpp"
+#include "mgelastic/tet/tet_hierarchy.hpp"
+
+namespace mgelastic::tet {
+
+enum class GalerkinMethod { STREAM, NAIVE };
+
+struct TetMultigridSettings {
+  TetHierarchySettings hierarchy;
+  GalerkinMethod galerkin = GalerkinMethod::STREAM;
+  int pre_smoothing = 1;   // forward block Gauss-Seidel sweeps
+  int post_smoothing = 1;  // backward block Gauss-Seidel sweeps
+};
+
+struct MultigridResult {
+  int cycles = 0;
+  double relative_residual = 0.0;  // |b - A x| / |b|
+  bool converged = false;
+};
+
+// Seconds of the last update(), per phase.
+struct MultigridUpdateTimes {
+  double fine_seconds = 0.0;      // A_0 from K~ and M
+  double galerkin_seconds = 0.0;  // all coarse operators
+  double factor_seconds = 0.0;    // coarsest Cholesky and smoother diagonals
+};
+
+class TetMultigrid {
+ public:
+  // `stiffness_pattern` gives the pattern of K~ (values ignored), e.g. CorotatedAssembler's.
+  // `constrained[v]` != 0 marks a Dirichlet vertex. Builds the hierarchy, the coarse patterns and
+  // (for STREAM) the streams; throws Error on size mismatches.
+  TetMultigrid(const geometry::TetMesh& mesh, const std::vector<char>& constrained,
+               const BlockRowMatrix<double>& stiffness_pattern,
+               const TetMultigridSettings& settings = {});
+  ~TetMultigrid();
+  TetMultigrid(const TetMultigrid&) = delete;
+  TetMultigrid& operator=(const TetMultigrid&) = delete;
+
+  // A_0 <- m M + k K~ (constrained), then every coarse operator and the coarsest factorization.
+  void update(const BlockRowMatrix<double>& stiffness, const Eigen::VectorXd& vertex_mass,
+              double mass_scale, double stiffness_scale);
+  // Recomputes the coarse operators from the current A_0 with the given method (benchmarks).
+  void update_coarse(GalerkinMethod method);
+  const MultigridUpdateTimes& update_times() const { return m_times; }
+
+  // One V-cycle on A_0 x = b, improving x in place.
+  void cycle(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
+  // V-cycles until |b - A_0 x| <= tolerance |b| or max_cycles.
+  MultigridResult solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, double tolerance,
+                        int max_cycles) const;
+  // CG on A_0 preconditioned by one V-cycle from zero. Throws Error on non-finite values or
+  // non-positive curvature.
+  PcgResult solve_pcg(const Eigen::VectorXd& b, Eigen::VectorXd& x, const PcgSettings& settings) const;
+  // r = b - A_0 x.
+  void residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& r) const;
+
+  const TetHierarchy& hierarchy() const { return m_hierarchy; }
+  int level_count() const { return m_hierarchy.level_count(); }
+  const BlockRowMatrix<double>& level_matrix(int level) const { return m_levels[level].matrix; }
+  // Stream of the product that makes level + 1 (nullptr for NAIVE).
+  const GalerkinStream* stream(int level) const { return m_levels[level].stream.get(); }
+  std::size_t stream_memory_bytes() const;
+
+ private:
+  struct Level {
+    BlockRowMatrix<double> matrix;
+    std::unique_ptr<GalerkinStream> stream;  // product to the next level
+    std::vector<Eigen::Matrix3d> inverse_diagonal;
+    mutable Eigen::VectorXd b, x, r;
+  };
+  struct Coarsest;
+  void smooth(int level, const Eigen::VectorXd& b, Eigen::VectorXd& x, bool forward) const;
+  void cycle_level(int level) const;
+  void finish_coarse_update();
+
+  TetMultigridSettings m_settings;
+  TetHierarchy m_hierarchy;
+  std::vector<Level> m_levels;
+  std::unique_ptr<Coarsest> m_coarsest;
+  MultigridUpdateTimes m_times;
+};
+
+}  // namespace mgelastic::tet
