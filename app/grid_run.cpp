@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "frame_files.hpp"
+#include "interruption.hpp"
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/timer.hpp"
 #include "mgelastic/grid/multigrid.hpp"
@@ -79,7 +80,7 @@ std::vector<io::SeriesEntry> write_frame(const grid::Multigrid<3, Scalar>& mg,
 }
 
 struct Totals {
-  int cycles = 0;
+  int frames = 0, cycles = 0;
   double solve_seconds = 0, output_seconds = 0, worst_residual = 0;
 };
 
@@ -116,6 +117,13 @@ void simulate(const scene::Scene& s, const scene::GridSetup& setup,
     std::snprintf(status, sizeof status, "t = %.3f s  %d cycles  relative residual %.2e%s", time,
                   report.cycles(), relative, report.converged ? "" : " (NOT converged)");
     progress.update(frame + 1, status);
+    totals.frames = frame + 1;
+    if (interruption_requested()) {
+      progress.finish();
+      std::printf("interrupted: stopped after frame %d of %d; every written frame is complete\n",
+                  frame + 1, s.time.frames);
+      break;
+    }
   }
   progress.finish();
   const auto& ph = mg.phase_seconds();
@@ -125,7 +133,7 @@ void simulate(const scene::Scene& s, const scene::GridSetup& setup,
       "time: setup %.2f s, hierarchy %.2f s, solve %.2f s (boundary %.2f, interior %.2f, residual "
       "%.2f, transfers %.2f, coarse %.2f), output %.2f s\n",
       setup.interior_cells, setup.dirichlet_cells, setup.voxels.dims[0], setup.voxels.dims[1],
-      setup.voxels.dims[2], setup.voxels.cell_size, mg.levels(), s.time.frames, totals.cycles,
+      setup.voxels.dims[2], setup.voxels.cell_size, mg.levels(), totals.frames, totals.cycles,
       s.cycle.c_str(), s.accelerate ? " (FGMRES-accelerated)" : "", totals.worst_residual,
       setup_seconds, hierarchy_seconds, totals.solve_seconds, ph.boundary_smoothing,
       ph.interior_smoothing, ph.residual, ph.restriction + ph.prolongation, ph.coarse_solve,

@@ -5,6 +5,7 @@
 #include "bench_command.hpp"
 #include "demo_command.hpp"
 #include "info_command.hpp"
+#include "interruption.hpp"
 #include "mgelastic/core/error.hpp"
 #include "run_command.hpp"
 #include "scene_commands.hpp"
@@ -28,5 +29,5 @@ int main(int argc, char** argv) {
     std::cerr << "error: " << e.what() << "\n";
     return 2;
   }
-  return 0;
+  return mgelastic::app::interruption_requested() ? 130 : 0;
 }

@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "grid_run.hpp"
+#include "interruption.hpp"
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/threads.hpp"
 #include "mgelastic/scene/scene.hpp"
@@ -21,6 +22,7 @@ struct RunOptions {
 
 void run_scene(const scene::Scene& s, const std::filesystem::path& output) {
   const std::filesystem::path dir = output.empty() ? std::filesystem::path(s.output_dir) : output;
+  const InterruptionGuard guard;
   try {
     if (s.engine == "tet") {
       run_tet_scene(s, dir);

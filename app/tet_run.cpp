@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "frame_files.hpp"
+#include "interruption.hpp"
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/timer.hpp"
 #include "mgelastic/geometry/tet_mesh_boundary.hpp"
@@ -193,6 +194,11 @@ void run_tet_scene(const scene::Scene& s, const std::filesystem::path& output_di
         iterations.c_str(), stats.worst_residual, stats.converged ? "" : " (NOT converged)",
         stats.rotate_seconds, stats.assemble_seconds, stats.solve_seconds, frame_output_seconds);
     std::fflush(stdout);
+    if (interruption_requested()) {
+      std::printf("interrupted: stopped after frame %d of %d; every written frame is complete\n",
+                  frame + 1, s.time.frames);
+      break;
+    }
   }
   const std::string iterations =
       pcg ? ", " + std::to_string(total.iterations) + " PCG iterations" : std::string();

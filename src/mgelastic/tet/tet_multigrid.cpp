@@ -48,6 +48,8 @@ TetMultigrid::TetMultigrid(const geometry::TetMesh& mesh, const std::vector<char
 }
 
 TetMultigrid::~TetMultigrid() = default;
+TetMultigrid::TetMultigrid(TetMultigrid&&) noexcept = default;
+TetMultigrid& TetMultigrid::operator=(TetMultigrid&&) noexcept = default;
 
 void TetMultigrid::update(const BlockRowMatrix<double>& stiffness, const Eigen::VectorXd& vertex_mass,
                           double mass_scale, double stiffness_scale) {

@@ -61,6 +61,8 @@ class TetMultigrid {
   ~TetMultigrid();
   TetMultigrid(const TetMultigrid&) = delete;
   TetMultigrid& operator=(const TetMultigrid&) = delete;
+  TetMultigrid(TetMultigrid&&) noexcept;
+  TetMultigrid& operator=(TetMultigrid&&) noexcept;
 
   // A_0 <- m M + k K~ (constrained), then every coarse operator and the coarsest factorization.
   void update(const BlockRowMatrix<double>& stiffness, const Eigen::VectorXd& vertex_mass,

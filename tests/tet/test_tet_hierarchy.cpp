@@ -1,0 +1,108 @@
+// Coarse regular tet grids, barycentric prolongation and the Dirichlet rule (tet_hierarchy.hpp).
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "mgelastic/tet/tet_hierarchy.hpp"
+#include "mgelastic/core/error.hpp"
+#include "tet/tet_test_support.hpp"
+
+namespace mgelastic::tet {
+namespace {
+
+// Barycentric weights are round-off accurate: a few ulps of O(1) sums.
+constexpr double kWeightRoundoff = 1e-12;
+
+geometry::TetMesh jittered_bar(double h, unsigned seed) {
+  geometry::TetMesh mesh = test::box_mesh(Eigen::Vector3d(1.0, 0.25, 0.25), h);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> jitter(-0.2 * h, 0.2 * h);
+  for (int v = 0; v < mesh.vertex_count(); ++v)
+    for (int a = 0; a < 3; ++a) {
+      const double x = mesh.vertices(v, a);
+      const double extent = a == 0 ? 1.0 : 0.25;
+      if (x > 1e-9 && x < extent - 1e-9) mesh.vertices(v, a) += jitter(rng);  // keep the box
+    }
+  return mesh;
+}
+
+TEST(TetHierarchy, LevelsDoubleCubeSizeAndStopAtTheCoarsestLimit) {
+  const geometry::TetMesh mesh = test::box_mesh(Eigen::Vector3d(1.0, 0.25, 0.25), 1.0 / 32);
+  TetHierarchySettings settings;
+  settings.max_coarsest_vertices = 100;
+  const TetHierarchy hierarchy(mesh, {}, settings);
+  ASSERT_GE(hierarchy.level_count(), 3);
+  EXPECT_NEAR(hierarchy.cell_size(1), 2.0 * mean_edge_length(mesh), 1e-12);
+  for (int l = 2; l < hierarchy.level_count(); ++l)
+    EXPECT_DOUBLE_EQ(hierarchy.cell_size(l), 2.0 * hierarchy.cell_size(l - 1));
+  const int last = hierarchy.level_count() - 1;
+  EXPECT_LE(hierarchy.vertex_count(last), 100);
+  EXPECT_GT(hierarchy.vertex_count(last - 1), 100);
+}
+
+TEST(TetHierarchy, ProlongationIsAPartitionOfUnityReproducingLinearFields) {
+  const geometry::TetMesh mesh = jittered_bar(1.0 / 24, 7);
+  TetHierarchySettings settings;
+  settings.max_coarsest_vertices = 50;
+  const TetHierarchy hierarchy(mesh, {}, settings);
+  ASSERT_GE(hierarchy.level_count(), 3);
+  for (int l = 0; l + 1 < hierarchy.level_count(); ++l) {
+    const Prolongation& p = hierarchy.prolongation(l);
+    const Eigen::MatrixX3d& fine = l == 0 ? mesh.vertices : hierarchy.coarse_mesh(l).vertices;
+    const Eigen::MatrixX3d& coarse = hierarchy.coarse_mesh(l + 1).vertices;
+    // Prolonging the coarse positions (a linear field) gives the fine positions.
+    Eigen::VectorXd coarse_field(3 * coarse.rows()), fine_field = Eigen::VectorXd::Zero(3 * fine.rows());
+    for (int v = 0; v < coarse.rows(); ++v) coarse_field.segment<3>(3 * v) = coarse.row(v).transpose();
+    p.prolong_add(coarse_field, fine_field);
+    for (int v = 0; v < p.fine_vertex_count(); ++v) {
+      double sum = 0.0;
+      for (int s = 0; s < 4; ++s) {
+        sum += p.weights[v][s];
+        // Covering grids: every vertex lies inside (or on) its coarse tetrahedron.
+        EXPECT_GE(p.weights[v][s], -kWeightRoundoff) << "level " << l << " vertex " << v;
+      }
+      EXPECT_NEAR(sum, 1.0, kWeightRoundoff);
+      EXPECT_LE((fine_field.segment<3>(3 * v) - fine.row(v).transpose()).norm(), kWeightRoundoff);
+    }
+  }
+}
+
+TEST(TetHierarchy, CoarseVertexIsConstrainedWhenItsSupportIsAllDirichlet) {
+  const geometry::TetMesh mesh = jittered_bar(1.0 / 24, 11);
+  std::vector<char> fixed(mesh.vertex_count(), 0);
+  for (int v = 0; v < mesh.vertex_count(); ++v) fixed[v] = mesh.vertices(v, 0) < 0.15;
+  TetHierarchySettings settings;
+  settings.max_coarsest_vertices = 50;
+  const TetHierarchy free_hierarchy(mesh, {}, settings);
+  const TetHierarchy hierarchy(mesh, fixed, settings);
+  ASSERT_EQ(hierarchy.level_count(), free_hierarchy.level_count());
+  int constrained_coarse = 0;
+  for (int l = 0; l + 1 < hierarchy.level_count(); ++l) {
+    const Prolongation& p = hierarchy.prolongation(l);
+    const Prolongation& unconstrained = free_hierarchy.prolongation(l);
+    // Support of each coarse vertex among the free vertices of level l (weights without rule).
+    std::vector<int> free_support(p.coarse_vertex_count, 0);
+    for (int v = 0; v < p.fine_vertex_count(); ++v)
+      for (int s = 0; s < 4; ++s) {
+        if (hierarchy.constrained(l)[v] != 0) {
+          EXPECT_EQ(p.weights[v][s], 0.0) << "Dirichlet row of P must be zero";
+        } else {
+          EXPECT_EQ(p.weights[v][s], unconstrained.weights[v][s]);
+          if (unconstrained.weights[v][s] != 0.0) ++free_support[unconstrained.vertices[v][s]];
+        }
+      }
+    for (int a = 0; a < p.coarse_vertex_count; ++a) {
+      EXPECT_EQ(hierarchy.constrained(l + 1)[a] != 0, free_support[a] == 0) << "level " << l + 1;
+      constrained_coarse += hierarchy.constrained(l + 1)[a] != 0;
+    }
+  }
+  EXPECT_GT(constrained_coarse, 0);
+}
+
+TEST(TetHierarchy, RejectsAConstraintVectorOfTheWrongSize) {
+  const geometry::TetMesh mesh = test::box_mesh(Eigen::Vector3d(1.0, 0.25, 0.25), 0.125);
+  EXPECT_THROW(TetHierarchy(mesh, std::vector<char>(3, 0)), Error);
+}
+
+}  // namespace
+}  // namespace mgelastic::tet
