@@ -16,6 +16,8 @@
 
 #include "mgelastic/geometry/triangle_mesh.hpp"
 
+#include "support/temp_dir.hpp"
+
 namespace mgelastic::test {
 
 // The hierarchical winding number with beta = 2 and second-order expansions, measured against
@@ -124,31 +126,10 @@ inline Eigen::Vector3d random_point(std::mt19937& rng, double extent) {
   return Eigen::Vector3d(u(rng), u(rng), u(rng));
 }
 
-// A fresh directory under the system temp dir, removed by the destructor.
-class SurfaceTempDir {
+// Temporary directories of the surface-mesh tests.
+class SurfaceTempDir : public TempDir {
  public:
-  SurfaceTempDir() {
-    std::random_device device;
-    m_path = std::filesystem::temp_directory_path() /
-             ("mgelastic_surface_" + std::to_string(device()) + "_" + std::to_string(device()));
-    std::filesystem::create_directories(m_path);
-  }
-  ~SurfaceTempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(m_path, ec);
-  }
-  SurfaceTempDir(const SurfaceTempDir&) = delete;
-  SurfaceTempDir& operator=(const SurfaceTempDir&) = delete;
-
-  const std::filesystem::path& path() const { return m_path; }
-  std::filesystem::path write(const std::string& name, const std::string& content) const {
-    const std::filesystem::path file = m_path / name;
-    std::ofstream(file, std::ios::binary) << content;
-    return file;
-  }
-
- private:
-  std::filesystem::path m_path;
+  SurfaceTempDir() : TempDir("mgelastic_surface") {}
 };
 
 // The real-mesh directory from MGELASTIC_DATA_DIR, or empty when the variable is unset.

@@ -11,6 +11,8 @@
 #include "mgelastic/geometry/tet_mesh.hpp"
 #include "mgelastic/geometry/tet_mesh_grid.hpp"
 
+#include "support/temp_dir.hpp"
+
 namespace mgelastic::test {
 
 // Round-off of a 12x12 element computation in double, relative to |K|: a few hundred ulps.
@@ -21,30 +23,6 @@ inline constexpr double kRotationExact = 1e-10;
 // Central finite differences with step 1e-6 on O(1) quantities: truncation ~1e-12, round-off
 // ~1e-16/1e-6 = 1e-10, so 1e-6 relative leaves a wide margin.
 inline constexpr double kFiniteDifference = 1e-6;
-
-// A fresh directory under the system temp dir, removed by the destructor.
-class TempDir {
- public:
-  TempDir() {
-    std::random_device device;
-    m_path = std::filesystem::temp_directory_path() /
-             ("mgelastic_tet_" + std::to_string(device()) + "_" + std::to_string(device()));
-    std::filesystem::create_directories(m_path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(m_path, ec);
-  }
-  const std::filesystem::path& path() const { return m_path; }
-  std::filesystem::path write(const std::string& name, const std::string& content) const {
-    const std::filesystem::path file = m_path / name;
-    std::ofstream(file, std::ios::binary) << content;
-    return file;
-  }
-
- private:
-  std::filesystem::path m_path;
-};
 
 // Axis-aligned box [0, size] split into cubes of edge h (Kuhn split), all cubes kept.
 inline geometry::TetMesh box_mesh(const Eigen::Vector3d& size, double h) {
