@@ -1,6 +1,7 @@
 #include "mgelastic/tet/tet_multigrid.hpp"
 
 #include <Eigen/CholmodSupport>
+#include <Eigen/LU>
 #include <cmath>
 #include <string>
 
