@@ -12,6 +12,7 @@
 #include "mgelastic/grid/hypre_baseline.hpp"
 #include "mgelastic/grid/multigrid.hpp"
 #include "mgelastic/grid/nonaugmented_system.hpp"
+#include "mgelastic/tet/step_benchmark.hpp"
 
 namespace mgelastic::app {
 namespace {
@@ -263,6 +264,67 @@ void run_vcycle_profile(const std::vector<int>& sizes, const std::vector<int>& t
   std::printf("\n");
 }
 
+// Georgii & Westermann Table 1/2 on generated bars (tet/step_benchmark.hpp); milliseconds per step.
+void run_tet_step(const std::vector<int>& cells, int steps, double tolerance, int coarsest,
+                  bool json) {
+  for (const int n : cells)
+    if (n < 2)
+      throw Error("must be at least 2 (got " + std::to_string(n) + ")", {.pointer = "--cells"});
+  if (steps < 1)
+    throw Error("must be at least 1 (got " + std::to_string(steps) + ")", {.pointer = "--steps"});
+  if (!(tolerance > 0.0)) throw Error("must be positive", {.pointer = "--tolerance"});
+  if (coarsest < 1) throw Error("must be at least 1", {.pointer = "--coarsest"});
+  nlohmann::json rows = nlohmann::json::array();
+  if (!json)
+    std::printf(
+        "%6s %6s %3s | %6s %6s | %7s %7s | %6s %6s | %6s %6s (it) | %6s (it) | %5s | %6s %6s | "
+        "%6s\n",
+        "tets", "verts", "lv", "rotate", "assem", "naive", "stream", "A0", "chol", "Vcyc", "MG-PCG",
+        "BJ-PCG", "rate", "MG st/s", "BJ st/s", "MB");
+  for (const int n : cells) {
+    const tet::TetStepBenchmark r = tet::run_tet_step_benchmark(n, steps, tolerance, coarsest);
+    rows.push_back({{"cells_across", r.cells_across},
+                    {"tets", r.tets},
+                    {"vertices", r.vertices},
+                    {"levels", r.levels},
+                    {"level_vertices", r.level_vertices},
+                    {"threads", r.threads},
+                    {"setup_seconds", r.setup_seconds},
+                    {"rotate_seconds", r.rotate_seconds},
+                    {"assemble_seconds", r.assemble_seconds},
+                    {"fine_operator_seconds", r.fine_operator_seconds},
+                    {"galerkin_naive_seconds", r.galerkin_naive_seconds},
+                    {"galerkin_stream_seconds", r.galerkin_stream_seconds},
+                    {"factor_seconds", r.factor_seconds},
+                    {"vcycle_seconds", r.vcycle_seconds},
+                    {"mg_pcg_seconds", r.mg_pcg_seconds},
+                    {"mg_pcg_iterations", r.mg_pcg_iterations},
+                    {"baseline_pcg_seconds", r.baseline_pcg_seconds},
+                    {"baseline_pcg_iterations", r.baseline_pcg_iterations},
+                    {"vcycle_rate", r.vcycle_rate},
+                    {"stream_bytes", r.stream_bytes},
+                    {"mg_steps_per_second", r.mg_steps_per_second},
+                    {"baseline_steps_per_second", r.baseline_steps_per_second}});
+    if (!json)
+      std::printf(
+          "%6d %6d %3d | %6.1f %6.1f | %7.1f %7.1f | %6.1f %6.1f | %6.1f %6.1f (%2.0f) | %6.1f "
+          "(%3.0f) | %5.2f | %6.1f %6.1f | %6.1f\n",
+          r.tets, r.vertices, r.levels, 1e3 * r.rotate_seconds, 1e3 * r.assemble_seconds,
+          1e3 * r.galerkin_naive_seconds, 1e3 * r.galerkin_stream_seconds,
+          1e3 * r.fine_operator_seconds, 1e3 * r.factor_seconds, 1e3 * r.vcycle_seconds,
+          1e3 * r.mg_pcg_seconds, r.mg_pcg_iterations, 1e3 * r.baseline_pcg_seconds,
+          r.baseline_pcg_iterations, r.vcycle_rate, r.mg_steps_per_second,
+          r.baseline_steps_per_second, r.stream_bytes / 1e6);
+  }
+  if (json)
+    std::cout << nlohmann::json{{"benchmark", "tet-step"},
+                                {"tolerance", tolerance},
+                                {"steps", steps},
+                                {"runs", rows}}
+                     .dump(2)
+              << "\n";
+}
+
 void register_bench_commands(CLI::App& app) {
   CLI::App* bench = app.add_subcommand("bench", "Solver benchmarks");
   bench->require_subcommand(1);
@@ -298,6 +360,23 @@ void register_bench_commands(CLI::App& app) {
   vcycle->add_option("--cycle", profile_options.cycle, "V or W");
   vcycle->add_flag("--json", profile_options.json, "Print JSON instead of a table");
   vcycle->callback([] { run_vcycle_profile(profile_sizes, profile_threads, profile_options); });
+  static std::vector<int> tet_cells{8, 11, 14};
+  static int tet_steps = 5, tet_threads = 0, tet_coarsest = 2000;
+  static double tet_tolerance = 1e-6;
+  static bool tet_json = false;
+  CLI::App* tet_step = bench->add_subcommand(
+      "tet-step", "Tet engine ms per step: rotate, assemble, Galerkin update, MG and PCG solves");
+  tet_step->add_option("--cells", tet_cells, "Cubes across the 1 x 0.25 x 0.25 bar (24 n^3 tets)");
+  tet_step->add_option("--steps", tet_steps, "Measured steps (after one warm-up)");
+  tet_step->add_option("--tolerance", tet_tolerance, "Relative residual of both PCG solves");
+  tet_step->add_option("--threads", tet_threads, "Threads (0 = default)");
+  tet_step->add_option("--coarsest", tet_coarsest,
+                       "Coarsen until a level has <= this many vertices");
+  tet_step->add_flag("--json", tet_json, "Print JSON instead of a table");
+  tet_step->callback([] {
+    if (tet_threads > 0) set_thread_count(tet_threads);
+    run_tet_step(tet_cells, tet_steps, tet_tolerance, tet_coarsest, tet_json);
+  });
   static bool disc_json = false;
   CLI::App* disc = bench->add_subcommand(
       "disc-accuracy", "The paper's embedded disc accuracy study (Sec. 9.2), nu = 0.2 and 0.49");

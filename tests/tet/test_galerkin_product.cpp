@@ -43,7 +43,8 @@ Prolongation random_prolongation(int fine, int coarse, std::mt19937& rng) {
     std::array<int, 4> vertices{};
     for (int s = 0; s < 4; ++s) {
       do vertices[s] = pick(rng);
-      while (std::find(vertices.begin(), vertices.begin() + s, vertices[s]) != vertices.begin() + s);
+      while (std::find(vertices.begin(), vertices.begin() + s, vertices[s]) !=
+             vertices.begin() + s);
     }
     std::array<double, 4> weights{};
     for (int s = 0; s < 4; ++s) weights[s] = v % 7 == 0 ? 0.0 : weight(rng);
@@ -75,10 +76,13 @@ TEST(GalerkinProduct, StreamAndNaiveEqualDenseProductOnASmallRandomCase) {
   galerkin_naive(k, p, naive);
   GalerkinStream(k, p, streamed, 2).update(k, streamed);
   const Eigen::SparseMatrix<double> ps = p.to_sparse();
-  const Eigen::MatrixXd dense = Eigen::MatrixXd(ps.transpose()) * Eigen::MatrixXd(k.to_sparse()) * Eigen::MatrixXd(ps);
+  const Eigen::MatrixXd dense =
+      Eigen::MatrixXd(ps.transpose()) * Eigen::MatrixXd(k.to_sparse()) * Eigen::MatrixXd(ps);
   const double scale = dense.cwiseAbs().maxCoeff();
-  EXPECT_LE((Eigen::MatrixXd(naive.to_sparse()) - dense).cwiseAbs().maxCoeff(), kSummationOrder * scale);
-  EXPECT_LE((Eigen::MatrixXd(streamed.to_sparse()) - dense).cwiseAbs().maxCoeff(), kSummationOrder * scale);
+  EXPECT_LE((Eigen::MatrixXd(naive.to_sparse()) - dense).cwiseAbs().maxCoeff(),
+            kSummationOrder * scale);
+  EXPECT_LE((Eigen::MatrixXd(streamed.to_sparse()) - dense).cwiseAbs().maxCoeff(),
+            kSummationOrder * scale);
 }
 
 TEST(GalerkinProduct, StreamEqualsNaiveOnRandomMatrices) {
@@ -91,7 +95,8 @@ TEST(GalerkinProduct, StreamEqualsNaiveOnRandomMatrices) {
     galerkin_naive(k, p, naive);
     const GalerkinStream stream(k, p, streamed, 1 + trial);
     stream.update(k, streamed);
-    EXPECT_LE(max_difference(naive, streamed), kSummationOrder * max_entry(naive)) << "trial " << trial;
+    EXPECT_LE(max_difference(naive, streamed), kSummationOrder * max_entry(naive))
+        << "trial " << trial;
   }
 }
 
@@ -133,7 +138,8 @@ TEST(GalerkinProduct, StreamEqualsNaiveOnARealHierarchyWithRotatedStiffness) {
   BlockRowMatrix<double> fine = assembler.stiffness();
   std::size_t bytes = 0;
   for (int l = 0; l + 1 < hierarchy.level_count(); ++l) {
-    BlockRowMatrix<double> naive = galerkin_pattern(fine, hierarchy.prolongation(l)), streamed = naive;
+    BlockRowMatrix<double> naive = galerkin_pattern(fine, hierarchy.prolongation(l)),
+                           streamed = naive;
     galerkin_naive(fine, hierarchy.prolongation(l), naive);
     const GalerkinStream stream(fine, hierarchy.prolongation(l), streamed);
     stream.update(fine, streamed);

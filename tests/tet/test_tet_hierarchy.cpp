@@ -3,8 +3,8 @@
 
 #include <random>
 
-#include "mgelastic/tet/tet_hierarchy.hpp"
 #include "mgelastic/core/error.hpp"
+#include "mgelastic/tet/tet_hierarchy.hpp"
 #include "tet/tet_test_support.hpp"
 
 namespace mgelastic::tet {
@@ -51,8 +51,10 @@ TEST(TetHierarchy, ProlongationIsAPartitionOfUnityReproducingLinearFields) {
     const Eigen::MatrixX3d& fine = l == 0 ? mesh.vertices : hierarchy.coarse_mesh(l).vertices;
     const Eigen::MatrixX3d& coarse = hierarchy.coarse_mesh(l + 1).vertices;
     // Prolonging the coarse positions (a linear field) gives the fine positions.
-    Eigen::VectorXd coarse_field(3 * coarse.rows()), fine_field = Eigen::VectorXd::Zero(3 * fine.rows());
-    for (int v = 0; v < coarse.rows(); ++v) coarse_field.segment<3>(3 * v) = coarse.row(v).transpose();
+    Eigen::VectorXd coarse_field(3 * coarse.rows()),
+        fine_field = Eigen::VectorXd::Zero(3 * fine.rows());
+    for (int v = 0; v < coarse.rows(); ++v)
+      coarse_field.segment<3>(3 * v) = coarse.row(v).transpose();
     p.prolong_add(coarse_field, fine_field);
     for (int v = 0; v < p.fine_vertex_count(); ++v) {
       double sum = 0.0;

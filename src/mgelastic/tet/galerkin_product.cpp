@@ -112,7 +112,8 @@ GalerkinStream::GalerkinStream(const BlockRowMatrix<double>& fine, const Prolong
     for (int s = 0; s < streams; ++s) {
       m_streams[s].row_begin = row;
       const long long target = total * (s + 1) / streams;
-      while (row < nc && (s == streams - 1 || done + row_pairs[row] / 2 <= target)) done += row_pairs[row++];
+      while (row < nc && (s == streams - 1 || done + row_pairs[row] / 2 <= target))
+        done += row_pairs[row++];
       m_streams[s].row_end = row;
     }
   }
@@ -150,7 +151,8 @@ GalerkinStream::GalerkinStream(const BlockRowMatrix<double>& fine, const Prolong
         }
         if (pairs == 0) continue;
         // Blocks of K skipped since the previous encoded one cost one fetch byte each.
-        if (stream.first_block < 0) stream.first_block = previous = k;
+        if (stream.first_block < 0)
+          stream.first_block = previous = k;
         else
           for (++previous; previous < k; ++previous) stream.control.push_back(0x80);
         encode_block(stream.control, pairs);
@@ -164,7 +166,8 @@ GalerkinStream::GalerkinStream(const BlockRowMatrix<double>& fine, const Prolong
   if (missing != 0) fail("coarse pattern misses a block of P^T K P");
 }
 
-void GalerkinStream::update(const BlockRowMatrix<double>& fine, BlockRowMatrix<double>& coarse) const {
+void GalerkinStream::update(const BlockRowMatrix<double>& fine,
+                            BlockRowMatrix<double>& coarse) const {
   if (fine.block_count() != m_fine_blocks || coarse.block_count() != m_coarse_blocks)
     fail("matrices differ from the patterns the streams were built for");
   const int streams = stream_count();
@@ -172,7 +175,8 @@ void GalerkinStream::update(const BlockRowMatrix<double>& fine, BlockRowMatrix<d
   for (int s = 0; s < streams; ++s) {
     const Stream& stream = m_streams[s];
     // Each stream owns the blocks of its destination rows: zero them, then walk.
-    for (int e = coarse.row_offsets()[stream.row_begin]; e < coarse.row_offsets()[stream.row_end]; ++e)
+    for (int e = coarse.row_offsets()[stream.row_begin]; e < coarse.row_offsets()[stream.row_end];
+         ++e)
       coarse.block(e).setZero();
     const double* weight = stream.weights.data();
     const std::int32_t* destination = stream.destinations.data();

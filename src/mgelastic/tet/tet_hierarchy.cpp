@@ -45,8 +45,8 @@ CubeGrid cube_grid(const Eigen::AlignedBox3d& box, double h) {
 }
 
 // Regular grid of cube size h whose cubes overlap the bounding box of some fine tetrahedron.
-geometry::RegularTetGrid covering_grid(const geometry::TetMesh& fine, const Eigen::AlignedBox3d& box,
-                                       double h) {
+geometry::RegularTetGrid covering_grid(const geometry::TetMesh& fine,
+                                       const Eigen::AlignedBox3d& box, double h) {
   const CubeGrid grid = cube_grid(box, h);
   const long long total = static_cast<long long>(grid.cells[0]) * grid.cells[1] * grid.cells[2];
   if (total > (1LL << 31)) fail("coarse grid too large (cube size " + std::to_string(h) + ")");
@@ -54,13 +54,16 @@ geometry::RegularTetGrid covering_grid(const geometry::TetMesh& fine, const Eige
   for (int t = 0; t < fine.tet_count(); ++t) {
     const Eigen::Matrix<double, 3, 4> c = fine.corners(t);
     const Eigen::Vector3i lo = grid.cube_of(c.rowwise().minCoeff());
-    const Eigen::Vector3i hi = grid.cube_of(c.rowwise().maxCoeff());
+    // A box ending exactly on a cube face does not reach into the next cube (Kuhn grids).
+    const Eigen::Vector3i hi = grid.cube_of(c.rowwise().maxCoeff().array() - 1e-9 * h);
     for (int k = lo[2]; k <= hi[2]; ++k)
       for (int j = lo[1]; j <= hi[1]; ++j)
         for (int i = lo[0]; i <= hi[0]; ++i) occupied[grid.key({i, j, k})] = 1;
   }
   // Evaluated at cube centres (CENTER), where cube_of is exact.
-  const auto inside = [&](const Eigen::Vector3d& p) { return occupied[grid.key(grid.cube_of(p))] != 0; };
+  const auto inside = [&](const Eigen::Vector3d& p) {
+    return occupied[grid.key(grid.cube_of(p))] != 0;
+  };
   return geometry::regular_tet_grid(inside, box, h, geometry::CubeSelection::CENTER);
 }
 
@@ -129,7 +132,8 @@ Prolongation locate(const Eigen::MatrixX3d& points, const std::vector<char>& fin
       p.weights[v][s] = dirichlet || std::abs(best_w[s]) < kZeroWeight ? 0.0 : best_w[s];
     }
   }
-  if (uncovered >= 0) fail("vertex " + std::to_string(uncovered) + " is not covered by the coarse grid");
+  if (uncovered >= 0)
+    fail("vertex " + std::to_string(uncovered) + " is not covered by the coarse grid");
   return p;
 }
 
@@ -148,7 +152,8 @@ void Prolongation::restrict_to(const Eigen::VectorXd& fine, Eigen::VectorXd& coa
   coarse.setZero(3 * coarse_vertex_count);
   for (int v = 0; v < fine_vertex_count(); ++v)
     for (int s = 0; s < 4; ++s)
-      if (weights[v][s] != 0.0) coarse.segment<3>(3 * vertices[v][s]) += weights[v][s] * fine.segment<3>(3 * v);
+      if (weights[v][s] != 0.0)
+        coarse.segment<3>(3 * vertices[v][s]) += weights[v][s] * fine.segment<3>(3 * v);
 }
 
 Eigen::SparseMatrix<double> Prolongation::to_sparse() const {
@@ -156,7 +161,8 @@ Eigen::SparseMatrix<double> Prolongation::to_sparse() const {
   for (int v = 0; v < fine_vertex_count(); ++v)
     for (int s = 0; s < 4; ++s)
       if (weights[v][s] != 0.0)
-        for (int c = 0; c < 3; ++c) entries.emplace_back(3 * v + c, 3 * vertices[v][s] + c, weights[v][s]);
+        for (int c = 0; c < 3; ++c)
+          entries.emplace_back(3 * v + c, 3 * vertices[v][s] + c, weights[v][s]);
   Eigen::SparseMatrix<double> p(3 * fine_vertex_count(), 3 * coarse_vertex_count);
   p.setFromTriplets(entries.begin(), entries.end());
   return p;
@@ -178,9 +184,11 @@ TetHierarchy::TetHierarchy(const geometry::TetMesh& fine, const std::vector<char
   if (!constrained.empty() && static_cast<int>(constrained.size()) != fine.vertex_count())
     fail("constraint vector has " + std::to_string(constrained.size()) + " entries for " +
          std::to_string(fine.vertex_count()) + " vertices");
-  if (settings.first_cell_factor <= 0.0 || settings.max_coarsest_vertices < 1 || settings.max_levels < 1)
+  if (settings.first_cell_factor <= 0.0 || settings.max_coarsest_vertices < 1 ||
+      settings.max_levels < 1)
     fail("invalid settings");
-  m_constrained.push_back(constrained.empty() ? std::vector<char>(fine.vertex_count(), 0) : constrained);
+  m_constrained.push_back(constrained.empty() ? std::vector<char>(fine.vertex_count(), 0)
+                                              : constrained);
   Eigen::AlignedBox3d box(fine.vertices.colwise().minCoeff().transpose(),
                           fine.vertices.colwise().maxCoeff().transpose());
   double h = settings.first_cell_factor * mean_edge_length(fine);

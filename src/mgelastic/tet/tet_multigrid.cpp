@@ -16,6 +16,9 @@ namespace {
   throw Error(reason, ErrorContext{std::string(), -1, "TetMultigrid"});
 }
 
+// Relative diagonal shift of the coarsest Galerkin operator (see finish_coarse_update).
+constexpr double kCoarsestShift = 1e-8;
+
 }  // namespace
 
 struct TetMultigrid::Coarsest {
@@ -33,7 +36,8 @@ TetMultigrid::TetMultigrid(const geometry::TetMesh& mesh, const std::vector<char
     fail("stiffness pattern has " + std::to_string(stiffness_pattern.block_rows()) +
          " block rows for " + std::to_string(mesh.vertex_count()) + " vertices");
   m_levels.resize(level_count());
-  m_levels[0].matrix = BlockRowMatrix<double>(stiffness_pattern.row_offsets(), stiffness_pattern.block_columns());
+  m_levels[0].matrix =
+      BlockRowMatrix<double>(stiffness_pattern.row_offsets(), stiffness_pattern.block_columns());
   for (int l = 0; l + 1 < level_count(); ++l) {
     m_levels[l + 1].matrix = galerkin_pattern(m_levels[l].matrix, m_hierarchy.prolongation(l));
     if (settings.galerkin == GalerkinMethod::STREAM)
@@ -52,8 +56,9 @@ TetMultigrid::~TetMultigrid() = default;
 TetMultigrid::TetMultigrid(TetMultigrid&&) noexcept = default;
 TetMultigrid& TetMultigrid::operator=(TetMultigrid&&) noexcept = default;
 
-void TetMultigrid::update(const BlockRowMatrix<double>& stiffness, const Eigen::VectorXd& vertex_mass,
-                          double mass_scale, double stiffness_scale) {
+void TetMultigrid::update(const BlockRowMatrix<double>& stiffness,
+                          const Eigen::VectorXd& vertex_mass, double mass_scale,
+                          double stiffness_scale) {
   BlockRowMatrix<double>& a = m_levels[0].matrix;
   if (stiffness.block_count() != a.block_count() || vertex_mass.size() != a.block_rows())
     fail("stiffness or mass does not match the pattern given at construction");
@@ -65,9 +70,12 @@ void TetMultigrid::update(const BlockRowMatrix<double>& stiffness, const Eigen::
   for (int i = 0; i < n; ++i)
     for (int k = a.row_offsets()[i]; k < a.row_offsets()[i + 1]; ++k) {
       const int j = a.block_columns()[k];
-      if (fixed[i] != 0 || fixed[j] != 0) a.block(k).setZero();
-      else a.block(k) = stiffness_scale * stiffness.block(k);
-      if (i == j) a.block(k).diagonal().array() += fixed[i] != 0 ? 1.0 : mass_scale * vertex_mass[i];
+      if (fixed[i] != 0 || fixed[j] != 0)
+        a.block(k).setZero();
+      else
+        a.block(k) = stiffness_scale * stiffness.block(k);
+      if (i == j)
+        a.block(k).diagonal().array() += fixed[i] != 0 ? 1.0 : mass_scale * vertex_mass[i];
     }
   m_times.fine_seconds = timer.seconds();
   update_coarse(m_settings.galerkin);
@@ -83,7 +91,9 @@ void TetMultigrid::update_coarse(GalerkinMethod method) {
     // Coarse vertices without free support have zero rows: identity keeps the level regular.
     const std::vector<char>& fixed = m_hierarchy.constrained(l + 1);
     for (int a = 0; a < m_levels[l + 1].matrix.block_rows(); ++a)
-      if (fixed[a] != 0) m_levels[l + 1].matrix.block(m_levels[l + 1].matrix.diagonal_index(a)) = Eigen::Matrix3d::Identity();
+      if (fixed[a] != 0)
+        m_levels[l + 1].matrix.block(m_levels[l + 1].matrix.diagonal_index(a)) =
+            Eigen::Matrix3d::Identity();
   }
   m_times.galerkin_seconds = timer.seconds();
   timer.restart();
@@ -100,19 +110,26 @@ void TetMultigrid::finish_coarse_update() {
     bool singular = false;
     for (int i = 0; i < n; ++i) {
       bool invertible = false;
-      level.matrix.diagonal_block(i).computeInverseWithCheck(level.inverse_diagonal[i], invertible, 1e-300);
+      level.matrix.diagonal_block(i).computeInverseWithCheck(level.inverse_diagonal[i], invertible,
+                                                             1e-300);
       singular |= !invertible;
     }
     if (singular) fail("singular diagonal block on level " + std::to_string(l));
   }
-  const Eigen::SparseMatrix<double> coarsest = m_levels.back().matrix.to_sparse();
+  // The Galerkin operator can be singular: coarse vertices outside the body whose support is a
+  // single fine vertex give linearly dependent columns of P. A relative diagonal shift makes it
+  // definite; it changes the correction only along directions that P maps to (almost) zero.
+  Eigen::SparseMatrix<double> coarsest = m_levels.back().matrix.to_sparse();
+  if (level_count() > 1)
+    for (int i = 0; i < coarsest.rows(); ++i) coarsest.coeffRef(i, i) *= 1.0 + kCoarsestShift;
   if (!m_coarsest->analyzed) {
     m_coarsest->factorization.analyzePattern(coarsest);
     m_coarsest->analyzed = true;
   }
   m_coarsest->factorization.factorize(coarsest);
   if (m_coarsest->factorization.info() != Eigen::Success)
-    fail("coarsest operator (level " + std::to_string(level_count() - 1) + ") is not positive definite");
+    fail("coarsest operator (level " + std::to_string(level_count() - 1) +
+         ") is not positive definite");
 }
 
 void TetMultigrid::smooth(int l, const Eigen::VectorXd& b, Eigen::VectorXd& x, bool forward) const {
@@ -160,7 +177,8 @@ void TetMultigrid::cycle(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
   x = m_levels[0].x;
 }
 
-void TetMultigrid::residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& r) const {
+void TetMultigrid::residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x,
+                            Eigen::VectorXd& r) const {
   r.resize(b.size());
   m_levels[0].matrix.multiply(x, r);
   r = b - r;
@@ -206,7 +224,8 @@ PcgResult TetMultigrid::solve_pcg(const Eigen::VectorXd& b, Eigen::VectorXd& x,
   while (result.iterations < settings.max_iterations) {
     m_levels[0].matrix.multiply(p, q);
     const double curvature = p.dot(q);
-    if (!(curvature > 0.0)) fail("MG-PCG met non-positive curvature p.Ap = " + std::to_string(curvature));
+    if (!(curvature > 0.0))
+      fail("MG-PCG met non-positive curvature p.Ap = " + std::to_string(curvature));
     const double alpha = rz / curvature;
     x += alpha * p;
     r -= alpha * q;

@@ -78,7 +78,8 @@ class TetMultigrid {
                         int max_cycles) const;
   // CG on A_0 preconditioned by one V-cycle from zero. Throws Error on non-finite values or
   // non-positive curvature.
-  PcgResult solve_pcg(const Eigen::VectorXd& b, Eigen::VectorXd& x, const PcgSettings& settings) const;
+  PcgResult solve_pcg(const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                      const PcgSettings& settings) const;
   // r = b - A_0 x.
   void residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& r) const;
 
