@@ -2,13 +2,16 @@
 // Non-zero traction on an embedded boundary (Zhu et al. 2010, Sec. 9.2). The boundary is given
 // as point forces on it (a polygon's segment forces l * t, half to each endpoint). Each force
 // component f_i is distributed to the u_i variables around its point with the bilinear
-// (trilinear) weights of the staggered u_i lattice. A share landing on an interior variable
-// becomes a force density f w / h^d on the right-hand side; a share landing on a traction
-// variable becomes a traction on the grid face it belongs to, t_i = f_i w (N . N') / h^(d-1)
-// (N the embedded normal, N' the grid face normal), i.e. the value of the boundary stress that
-// Sec. 5.3 eliminates there (P_ii for faces between an interior and an exterior cell, P_ij on the
-// edge next to faces half a cell outside). Shares on Dirichlet variables are held by the
-// constraint; shares on variables no equation references are dropped.
+// (trilinear) weights of the staggered u_i lattice. A share w f_i landing on an interior variable
+// becomes a force density w f_i / h^d on the right-hand side; a share landing on a traction
+// variable becomes a traction on the grid face it belongs to, t_i = w f_i / h^(d-1), i.e. the
+// value of the boundary stress that Sec. 5.3 eliminates there (P_ii for faces between an interior
+// and an exterior cell, P_ij on the edge next to faces half a cell outside), signed by the face's
+// outward normal N'. The paper writes t_i = f_i (N . N') / h; the factor N . N' < 1 would lose
+// force on every inclined staircase face, so it is left out (docs/grid-engine.md, decision 9).
+// Shares on Dirichlet variables are held by the constraint. Corners that no equation references
+// (inactive faces at staircase corners, one-cell-thin bodies) cannot carry force: the weights are
+// renormalized over the other corners, so the force on the body is conserved exactly.
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
