@@ -7,7 +7,7 @@ packages=(
   libeigen3-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libsuitesparse-dev libhypre-dev
-  python3
+  python3 ccache
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <numbers>
+#include <utility>
+#include <vector>
 
 #include "mgelastic/geometry/primitives.hpp"
 #include "mgelastic/geometry/voxelization.hpp"
@@ -37,8 +39,18 @@ TEST(Voxelization, VolumeConvergesToTheAnalyticVolume) {
 
 TEST(Voxelization, BoxAlignedWithTheGridIsExact) {
   const auto box = make_box(Point(0.5, 0.5, 0.5), Point(1.0, 0.5, 0.25));
-  const VoxelGrid grid = voxelize(*box, {.cell_size = 0.125});
+  // Two cells thick: without thin-feature thickening (min_thickness = 2) the set is the box.
+  const VoxelGrid grid = voxelize(*box, {.cell_size = 0.125, .min_thickness = 2});
   EXPECT_NEAR(occupied_volume(grid), 0.125, 1e-12);  // cells touching only a face don't overlap
+}
+
+// By default a feature thinner than three cells gets a third layer (the first coarse level then
+// has no one-cell sheets); thicker bodies are left as they are.
+TEST(Voxelization, ThinFeaturesAreThickenedToThreeCells) {
+  const auto slab = make_box(Point(0.5, 0.5, 0.5), Point(1.0, 0.5, 0.25));
+  EXPECT_NEAR(occupied_volume(voxelize(*slab, {.cell_size = 0.125})), 0.1875, 1e-12);
+  const auto block = make_box(Point(0.5, 0.5, 0.5), Point(1.0, 0.5, 0.375));
+  EXPECT_NEAR(occupied_volume(voxelize(*block, {.cell_size = 0.125})), 0.1875, 1e-12);
 }
 
 TEST(Voxelization, PaddingAddsLayersAndMarginStaysEmpty) {
@@ -72,6 +84,64 @@ TEST(Voxelization, DiagonalContactsAreBridgedIntoFaceConnections) {
   EXPECT_TRUE(grid.occupied[grid.index(1, 0, 0)] || grid.occupied[grid.index(0, 1, 0)]);
   // A second pass finds nothing left to bridge.
   EXPECT_EQ(bridge_diagonal_contacts(grid), 0);
+}
+
+VoxelGrid boxes(const Eigen::Vector3i& dims,
+                const std::vector<std::pair<Eigen::Vector3i, Eigen::Vector3i>>& ranges) {
+  VoxelGrid grid;
+  grid.dims = dims;
+  grid.occupied.assign(static_cast<std::size_t>(dims.prod()), 0);
+  for (const auto& [lo, hi] : ranges)
+    for (int k = lo[2]; k < hi[2]; ++k)
+      for (int j = lo[1]; j < hi[1]; ++j)
+        for (int i = lo[0]; i < hi[0]; ++i) grid.occupied[grid.index(i, j, k)] = 1;
+  return grid;
+}
+
+int occupied_count(const VoxelGrid& grid) {
+  int count = 0;
+  for (auto c : grid.occupied) count += c;
+  return count;
+}
+
+// Two 4^3 cubes touching through a single cell face, or through a strip one cell wide, are
+// hinged (grid tests: Coarsening.HingedPartsMakeTheLatticeSingular). The repair chains their
+// full 2x2x2 blocks with a few cells, keeps every cell it had, and is then idempotent.
+TEST(Voxelization, HingesAreChainedIntoOneRigidUnionOfBlocks) {
+  using V = Eigen::Vector3i;
+  for (bool strip : {false, true}) {
+    SCOPED_TRACE(strip ? "strip hinge" : "single-face hinge");
+    const V b(5, strip ? 1 : 4, 4);
+    VoxelGrid grid = boxes(V(11, 10, 10), {{V(1, 1, 1), V(5, 5, 5)}, {b, b + V(4, 4, 4)}});
+    const VoxelGrid before = grid;
+    const int added = connect_thick_blocks(grid);
+    EXPECT_GT(added, 0);
+    EXPECT_LE(added, 8);
+    EXPECT_EQ(occupied_count(grid), occupied_count(before) + added);
+    int lost = 0;
+    for (std::size_t c = 0; c < grid.occupied.size(); ++c)
+      lost += before.occupied[c] && !grid.occupied[c];
+    EXPECT_EQ(lost, 0);
+    EXPECT_EQ(connect_thick_blocks(grid), 0);
+  }
+}
+
+// Blocks that already share 2x2 halves, and separate pieces, are left alone.
+TEST(Voxelization, RigidAndSeparatePiecesAreNotConnected) {
+  using V = Eigen::Vector3i;
+  VoxelGrid l_shape = boxes(V(10, 10, 6), {{V(1, 1, 1), V(8, 3, 3)}, {V(1, 1, 1), V(3, 8, 3)}});
+  EXPECT_EQ(connect_thick_blocks(l_shape), 0);
+  VoxelGrid apart = boxes(V(12, 6, 6), {{V(1, 1, 1), V(5, 5, 5)}, {V(6, 1, 1), V(10, 5, 5)}});
+  EXPECT_EQ(connect_thick_blocks(apart), 0);
+}
+
+// Every cell of a thickened set lies in a full 2x2x2 block (a one-cell sheet gets a second
+// layer), and thickening again adds nothing.
+TEST(Voxelization, ThickeningPutsEveryCellInAFullBlock) {
+  using V = Eigen::Vector3i;
+  VoxelGrid sheet = boxes(V(8, 8, 5), {{V(1, 1, 2), V(7, 7, 3)}});
+  EXPECT_EQ(thicken_thin_features(sheet), 36);
+  EXPECT_EQ(thicken_thin_features(sheet), 0);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "mgelastic/core/error.hpp"
+#include "mgelastic/geometry/rigid_blocks.hpp"
 
 namespace mgelastic::geometry {
 namespace {
@@ -74,43 +75,14 @@ int fill_path(VoxelGrid& grid, Eigen::Vector3i c, Eigen::Vector3i offset) {
   return added;
 }
 
-bool block_full(const VoxelGrid& grid, const Eigen::Vector3i& corner, int& occupied) {
-  occupied = 0;
-  for (int c = 0; c < 8; ++c)
-    occupied += occupied_at(grid, corner + Eigen::Vector3i(c & 1, (c >> 1) & 1, c >> 2));
-  return occupied == 8;
-}
-
 }  // namespace
 
 int thicken_thin_features(VoxelGrid& grid) {
-  int added = 0;
-  const auto& n = grid.dims;
-  for (int k = 0; k < n[2]; ++k)
-    for (int j = 0; j < n[1]; ++j)
-      for (int i = 0; i < n[0]; ++i) {
-        if (!grid.occupied[grid.index(i, j, k)]) continue;
-        // The 2x2x2 blocks containing the cell: done if one is full, else fill the fullest.
-        Eigen::Vector3i best(-1, -1, -1);
-        int best_count = -1;
-        bool full = false;
-        for (int c = 0; c < 8 && !full; ++c) {
-          const Eigen::Vector3i corner =
-              Eigen::Vector3i(i, j, k) - Eigen::Vector3i(c & 1, (c >> 1) & 1, c >> 2);
-          if ((corner.array() < 0).any() || (corner.array() + 1 >= n.array()).any()) continue;
-          int count = 0;
-          full = block_full(grid, corner, count);
-          if (count > best_count) best_count = count, best = corner;
-        }
-        if (full || best_count < 0) continue;
-        for (int c = 0; c < 8; ++c) {
-          const Eigen::Vector3i q = best + Eigen::Vector3i(c & 1, (c >> 1) & 1, c >> 2);
-          std::uint8_t& cell = grid.occupied[grid.index(q[0], q[1], q[2])];
-          added += cell == 0;
-          cell = 1;
-        }
-      }
-  return added;
+  return thicken_to_full_blocks<3>(grid.dims, grid.occupied);
+}
+
+int connect_thick_blocks(VoxelGrid& grid) {
+  return connect_full_blocks<3>(grid.dims, grid.occupied);
 }
 
 int bridge_diagonal_contacts(VoxelGrid& grid) {
@@ -172,7 +144,13 @@ VoxelGrid voxelize(const Shape& body, const VoxelizeOptions& options) {
   grid.occupied = overlapping_cells(grid, body);
   grid.bridged_cells = bridge_diagonal_contacts(grid);
   grid.thickened_cells = thicken_thin_features(grid);
+  grid.connected_cells = connect_thick_blocks(grid);
   for (int layer = 0; layer < options.padding; ++layer) dilate(grid);
+  if (options.min_thickness > 2) {
+    grid.thickened_cells +=
+        thicken_to_full_blocks<3>(grid.dims, grid.occupied, options.min_thickness);
+    grid.connected_cells += connect_thick_blocks(grid);
+  }
   return grid;
 }
 

@@ -1,5 +1,9 @@
 #include "mgelastic/grid/coarsening.hpp"
 
+#include <cstdint>
+
+#include "mgelastic/geometry/rigid_blocks.hpp"
+
 namespace mgelastic::grid {
 
 template <int Dim>
@@ -24,6 +28,33 @@ std::vector<CellType> coarsen_cells(const Lattice<Dim>& fine, const std::vector<
   return result;
 }
 
+template <int Dim>
+int repair_coarse_cells(const Lattice<Dim>& lattice, std::vector<CellType>& cells) {
+  // Occupancy of the real cells (no ghost ring), x fastest.
+  const geometry::CellCoords<Dim> dims = lattice.cells;
+  std::vector<std::uint8_t> occupied(static_cast<std::size_t>(dims.prod()), 0);
+  const auto stored = [&](std::size_t q) {
+    IVec<Dim> s;
+    for (int a = 0; a < Dim; ++a) {
+      s[a] = static_cast<int>(q % static_cast<std::size_t>(dims[a])) + 1;
+      q /= static_cast<std::size_t>(dims[a]);
+    }
+    return lattice.index(s);
+  };
+  for (std::size_t q = 0; q < occupied.size(); ++q)
+    occupied[q] = cells[stored(q)] != CellType::EXTERIOR;
+  int added = geometry::thicken_to_full_blocks<Dim>(dims, occupied);
+  added += geometry::connect_full_blocks<Dim>(dims, occupied);
+  if (added == 0) return 0;
+  for (std::size_t q = 0; q < occupied.size(); ++q) {
+    CellType& cell = cells[stored(q)];
+    if (occupied[q] && cell == CellType::EXTERIOR) cell = CellType::INTERIOR;
+  }
+  return added;
+}
+
+template int repair_coarse_cells<2>(const Lattice<2>&, std::vector<CellType>&);
+template int repair_coarse_cells<3>(const Lattice<3>&, std::vector<CellType>&);
 template Lattice<2> coarsen<2>(const Lattice<2>&);
 template Lattice<3> coarsen<3>(const Lattice<3>&);
 template std::vector<CellType> coarsen_cells<2>(const Lattice<2>&, const std::vector<CellType>&);

@@ -2,6 +2,13 @@
 // 2^d-to-1 coarsening of cell types (Sec. 6): a coarse cell is Dirichlet if any fine sub-cell is,
 // otherwise interior if any sub-cell is interior, otherwise exterior. The coarse lattice has
 // ceil(n/2) cells per axis, twice the cell size and the same origin.
+//
+// A thin part of the body coarsens into a sheet one coarse cell thick (no bending stiffness), and
+// thick parts joined by a thin neck or a small contact patch into parts hinged at one coarse
+// cell face or strip, which turn without strain (geometry/rigid_blocks.hpp); the fine level has
+// neither. A coarsest level with a hinge is singular, and the correction of a coarse level is
+// unbounded along it. repair_coarse_cells() makes coarse typings free of them, with the rule
+// voxelize() applies to the finest.
 #include <vector>
 
 #include "mgelastic/grid/lattice.hpp"
@@ -13,5 +20,12 @@ Lattice<Dim> coarsen(const Lattice<Dim>& fine);
 
 template <int Dim>
 std::vector<CellType> coarsen_cells(const Lattice<Dim>& fine, const std::vector<CellType>& cells);
+
+// Turns exterior real cells into interior ones until every non-exterior cell lies in a fully
+// non-exterior 2^d block and the full blocks of each face-connected piece form one chain of
+// blocks sharing 2^(d-1) x 1 halves (geometry::thicken_to_full_blocks, connect_full_blocks).
+// The ghost ring stays exterior. Returns the number of cells added.
+template <int Dim>
+int repair_coarse_cells(const Lattice<Dim>& lattice, std::vector<CellType>& cells);
 
 }  // namespace mgelastic::grid

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 #include <type_traits>
+#include <utility>
 
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/timer.hpp"
@@ -29,13 +30,29 @@ std::size_t count_interior(const std::vector<CellType>& cells) {
   return static_cast<std::size_t>(std::count(cells.begin(), cells.end(), CellType::INTERIOR));
 }
 
+// Fraction of the body's (non-exterior) cells that have an exterior face neighbor.
+template <int Dim>
+double boundary_fraction(const Lattice<Dim>& lattice, const std::vector<CellType>& cells) {
+  std::size_t body = 0, boundary = 0;
+  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(lattice.size()); ++k) {
+    if (cells[k] == CellType::EXTERIOR || !lattice.is_real(lattice.coords(k))) continue;
+    ++body;
+    bool exposed = false;
+    for (int a = 0; a < Dim && !exposed; ++a)
+      exposed = cells[k - lattice.stride(a)] == CellType::EXTERIOR ||
+                cells[k + lattice.stride(a)] == CellType::EXTERIOR;
+    boundary += exposed;
+  }
+  return body == 0 ? 1.0 : static_cast<double>(boundary) / static_cast<double>(body);
+}
+
 // Coarsening continues while the next level still resolves the body with at least
 // `coarsest_min_cells` cells along its longest axis (coarser levels model traction boundaries
 // too crudely to correct the body's global deformation modes) and the current level is larger
 // than what the direct solver handles cheaply. The first coarsening always happens.
 template <int Dim>
-bool keep_coarsening(const Lattice<Dim>& lattice, const std::vector<CellType>& cells,
-                     std::size_t levels, const MultigridOptions& options) {
+bool may_coarsen(const Lattice<Dim>& lattice, const std::vector<CellType>& cells,
+                 std::size_t levels, const MultigridOptions& options) {
   if (!can_coarsen(lattice)) return false;
   if (options.max_levels > 0 && static_cast<int>(levels) >= options.max_levels) return false;
   if (levels == 1) return true;
@@ -61,13 +78,22 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
   // Cell types of every level first: each level's band depends on the next coarser typing.
   std::vector<Lattice<Dim>> lattices{problem.lattice};
   std::vector<std::vector<CellType>> cells{problem.cells};
-  while (keep_coarsening(lattices.back(), cells.back(), lattices.size(), options)) {
-    cells.push_back(coarsen_cells(lattices.back(), cells.back()));
-    lattices.push_back(coarsen(lattices.back()));
+  while (may_coarsen(lattices.back(), cells.back(), lattices.size(), options)) {
+    Lattice<Dim> coarse = coarsen(lattices.back());
+    std::vector<CellType> coarse_cells = coarsen_cells(lattices.back(), cells.back());
+    if (options.repair_coarse_cells) repair_coarse_cells(coarse, coarse_cells);
+    // A level made mostly of boundary cells misrepresents a thin body: its traction boundaries
+    // sit half a coarse cell inside and its stiffness is far off the finer level's, so its
+    // correction of the body's global deformation is poor (docs/embedded-geometry.md).
+    if (lattices.size() > 1 &&
+        boundary_fraction(coarse, coarse_cells) > options.coarsest_max_boundary_fraction)
+      break;
+    lattices.push_back(std::move(coarse));
+    cells.push_back(std::move(coarse_cells));
   }
-  // Thin parts of an embedded body can become one-cell sheets with a strain-free mode on a coarse
-  // level; such a level cannot be the coarsest (its direct solve is singular), so the hierarchy
-  // stops one level finer, down to a direct solve of the finest level itself.
+  // A coarse level that is still singular (a body part not held, or a strain-free mode the
+  // repair of coarse typings does not remove) cannot be the coarsest; the hierarchy then stops
+  // one level finer, down to a direct solve of the finest level itself.
   while (true) {
     build_levels(problem, lattices, cells);
     try {

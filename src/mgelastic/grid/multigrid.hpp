@@ -23,11 +23,16 @@ struct MultigridOptions {
   // Extra band sweeps over relocated-boundary equations before restriction / after
   // prolongation (Sec. 6, Fig. 8).
   int relocation_sweeps = 2;
-  // Coarsen while a level has more interior unknowns than this and the next level keeps at
-  // least `coarsest_min_cells` cells along its longest axis; the coarsest level is solved
-  // directly. At least two levels are always built.
+  // Coarsen while a level has more interior unknowns than this, the next level keeps at least
+  // `coarsest_min_cells` cells along its longest axis and at most
+  // `coarsest_max_boundary_fraction` of its body cells have an exterior face neighbor; the
+  // coarsest level is solved directly. At least two levels are always built.
   std::size_t coarsest_max_unknowns = 4096;
   int coarsest_min_cells = 16;
+  double coarsest_max_boundary_fraction = 0.5;
+  // Coarse cell typings are repaired so that they have no strain-free modes the fine level does
+  // not have (repair_coarse_cells in coarsening.hpp).
+  bool repair_coarse_cells = true;
   int max_levels = 0;  // 0 = no limit
 };
 
