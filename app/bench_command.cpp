@@ -2,6 +2,8 @@
 
 #include <cstdio>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/threads.hpp"
@@ -264,31 +266,64 @@ void run_vcycle_profile(const std::vector<int>& sizes, const std::vector<int>& t
   std::printf("\n");
 }
 
-// Georgii & Westermann Table 1/2 on generated bars (tet/step_benchmark.hpp); milliseconds per step.
-void run_tet_step(const std::vector<int>& cells, int steps, double tolerance, int coarsest,
-                  bool json) {
-  for (const int n : cells)
+// Georgii & Westermann Table 1/2 (tet/step_benchmark.hpp); milliseconds per step.
+struct TetStepOptions {
+  std::vector<int> cells{8, 11, 14};
+  std::vector<std::string> meshes;
+  int refine = 0, steps = 5, threads = 0, coarsest = 300, vcycles = 1;
+  double tolerance = 1e-6, cell_factor = 2.0;
+  std::string rotation = "energy";
+  bool symmetric = false, json = false;
+};
+
+void run_tet_step(const TetStepOptions& o) {
+  for (const int n : o.cells)
     if (n < 2)
       throw Error("must be at least 2 (got " + std::to_string(n) + ")", {.pointer = "--cells"});
-  if (steps < 1)
-    throw Error("must be at least 1 (got " + std::to_string(steps) + ")", {.pointer = "--steps"});
-  if (!(tolerance > 0.0)) throw Error("must be positive", {.pointer = "--tolerance"});
-  if (coarsest < 1) throw Error("must be at least 1", {.pointer = "--coarsest"});
+  if (o.steps < 1)
+    throw Error("must be at least 1 (got " + std::to_string(o.steps) + ")", {.pointer = "--steps"});
+  if (!(o.tolerance > 0.0)) throw Error("must be positive", {.pointer = "--tolerance"});
+  if (o.coarsest < 1) throw Error("must be at least 1", {.pointer = "--coarsest"});
+  if (o.vcycles < 1) throw Error("must be at least 1", {.pointer = "--vcycles"});
+  tet::TetStepBenchmarkOptions base;
+  base.steps = o.steps;
+  base.vcycles = o.vcycles;
+  base.tolerance = o.tolerance;
+  base.refinements = o.refine;
+  base.multigrid.hierarchy.max_coarsest_vertices = o.coarsest;
+  base.multigrid.hierarchy.first_cell_factor = o.cell_factor;
+  base.multigrid.symmetric_sweeps = o.symmetric;
+  base.rotation = o.rotation == "polar"            ? tet::RotationMethod::POLAR
+                  : o.rotation == "smoothed_polar" ? tet::RotationMethod::POLAR_SMOOTHED
+                                                   : tet::RotationMethod::ENERGY_MINIMIZATION;
+  std::vector<tet::TetStepBenchmarkOptions> runs;
+  for (const int n : o.cells) {
+    runs.push_back(base);
+    runs.back().cells_across = n;
+  }
+  for (const std::string& file : o.meshes) {
+    runs.push_back(base);
+    runs.back().mesh_file = file;
+  }
   nlohmann::json rows = nlohmann::json::array();
-  if (!json)
+  if (!o.json)
     std::printf(
-        "%6s %6s %3s | %6s %6s | %7s %7s | %6s %6s | %6s %6s (it) | %6s (it) | %5s | %6s %6s | "
-        "%6s\n",
-        "tets", "verts", "lv", "rotate", "assem", "naive", "stream", "A0", "chol", "Vcyc", "MG-PCG",
-        "BJ-PCG", "rate", "MG st/s", "BJ st/s", "MB");
-  for (const int n : cells) {
-    const tet::TetStepBenchmark r = tet::run_tet_step_benchmark(n, steps, tolerance, coarsest);
-    rows.push_back({{"cells_across", r.cells_across},
+        "%7s %6s %11s | %6s %6s | %6s %6s | %5s %5s %6s | %6s %6s | %6s %6s | %5s %8s | %9s %9s "
+        "%9s | %5s\n",
+        "tets", "verts", "coarsest", "rotate", "assem", "naive", "stream", "A0", "chol", "solve",
+        "step", "steps/s", "BJ st/s", "MB", "rate", "step res", "BJ-PCG", "MG-PCG", "V to tol",
+        "setup");
+  for (const tet::TetStepBenchmarkOptions& run : runs) {
+    const tet::TetStepBenchmark r = tet::run_tet_step_benchmark(run);
+    rows.push_back({{"mesh", r.mesh},
                     {"tets", r.tets},
                     {"vertices", r.vertices},
                     {"levels", r.levels},
                     {"level_vertices", r.level_vertices},
                     {"threads", r.threads},
+                    {"rotation", o.rotation},
+                    {"vcycles", o.vcycles},
+                    {"symmetric_sweeps", o.symmetric},
                     {"setup_seconds", r.setup_seconds},
                     {"rotate_seconds", r.rotate_seconds},
                     {"assemble_seconds", r.assemble_seconds},
@@ -296,30 +331,40 @@ void run_tet_step(const std::vector<int>& cells, int steps, double tolerance, in
                     {"galerkin_naive_seconds", r.galerkin_naive_seconds},
                     {"galerkin_stream_seconds", r.galerkin_stream_seconds},
                     {"factor_seconds", r.factor_seconds},
-                    {"vcycle_seconds", r.vcycle_seconds},
+                    {"solve_seconds", r.solve_seconds},
+                    {"step_seconds", r.step_seconds},
+                    {"step_residual", r.step_residual},
                     {"mg_pcg_seconds", r.mg_pcg_seconds},
                     {"mg_pcg_iterations", r.mg_pcg_iterations},
                     {"baseline_pcg_seconds", r.baseline_pcg_seconds},
                     {"baseline_pcg_iterations", r.baseline_pcg_iterations},
+                    {"vcycles_to_tolerance", r.vcycles_to_tolerance},
+                    {"vcycles_to_tolerance_seconds", r.vcycles_to_tolerance_seconds},
                     {"vcycle_rate", r.vcycle_rate},
                     {"stream_bytes", r.stream_bytes},
-                    {"mg_steps_per_second", r.mg_steps_per_second},
+                    {"steps_per_second", r.steps_per_second},
                     {"baseline_steps_per_second", r.baseline_steps_per_second}});
-    if (!json)
+    if (!o.json) {
+      const std::string coarsest =
+          std::to_string(r.levels) + " lv/" + std::to_string(r.level_vertices.back());
       std::printf(
-          "%6d %6d %3d | %6.1f %6.1f | %7.1f %7.1f | %6.1f %6.1f | %6.1f %6.1f (%2.0f) | %6.1f "
-          "(%3.0f) | %5.2f | %6.1f %6.1f | %6.1f\n",
-          r.tets, r.vertices, r.levels, 1e3 * r.rotate_seconds, 1e3 * r.assemble_seconds,
+          "%7d %6d %11s | %6.1f %6.1f | %6.1f %6.1f | %5.1f %5.1f %6.1f | %6.1f %6.1f | %6.1f "
+          "%6.1f | %5.2f %8.1e | %4.0f %4.0f %4.0f %4.0f %4.0f %4.0f | %5.1f  %s\n",
+          r.tets, r.vertices, coarsest.c_str(), 1e3 * r.rotate_seconds, 1e3 * r.assemble_seconds,
           1e3 * r.galerkin_naive_seconds, 1e3 * r.galerkin_stream_seconds,
-          1e3 * r.fine_operator_seconds, 1e3 * r.factor_seconds, 1e3 * r.vcycle_seconds,
-          1e3 * r.mg_pcg_seconds, r.mg_pcg_iterations, 1e3 * r.baseline_pcg_seconds,
-          r.baseline_pcg_iterations, r.vcycle_rate, r.mg_steps_per_second,
-          r.baseline_steps_per_second, r.stream_bytes / 1e6);
+          1e3 * r.fine_operator_seconds, 1e3 * r.factor_seconds, 1e3 * r.solve_seconds,
+          1e3 * r.step_seconds, r.steps_per_second, r.baseline_steps_per_second,
+          r.stream_bytes / 1e6, r.vcycle_rate, r.step_residual, 1e3 * r.baseline_pcg_seconds,
+          r.baseline_pcg_iterations, 1e3 * r.mg_pcg_seconds, r.mg_pcg_iterations,
+          1e3 * r.vcycles_to_tolerance_seconds, r.vcycles_to_tolerance, r.setup_seconds,
+          r.mesh.c_str());
+      std::fflush(stdout);
+    }
   }
-  if (json)
+  if (o.json)
     std::cout << nlohmann::json{{"benchmark", "tet-step"},
-                                {"tolerance", tolerance},
-                                {"steps", steps},
+                                {"tolerance", o.tolerance},
+                                {"steps", o.steps},
                                 {"runs", rows}}
                      .dump(2)
               << "\n";
@@ -360,22 +405,34 @@ void register_bench_commands(CLI::App& app) {
   vcycle->add_option("--cycle", profile_options.cycle, "V or W");
   vcycle->add_flag("--json", profile_options.json, "Print JSON instead of a table");
   vcycle->callback([] { run_vcycle_profile(profile_sizes, profile_threads, profile_options); });
-  static std::vector<int> tet_cells{8, 11, 14};
-  static int tet_steps = 5, tet_threads = 0, tet_coarsest = 2000;
-  static double tet_tolerance = 1e-6;
-  static bool tet_json = false;
+  static TetStepOptions tet_options;
   CLI::App* tet_step = bench->add_subcommand(
-      "tet-step", "Tet engine ms per step: rotate, assemble, Galerkin update, MG and PCG solves");
-  tet_step->add_option("--cells", tet_cells, "Cubes across the 1 x 0.25 x 0.25 bar (24 n^3 tets)");
-  tet_step->add_option("--steps", tet_steps, "Measured steps (after one warm-up)");
-  tet_step->add_option("--tolerance", tet_tolerance, "Relative residual of both PCG solves");
-  tet_step->add_option("--threads", tet_threads, "Threads (0 = default)");
-  tet_step->add_option("--coarsest", tet_coarsest,
+      "tet-step",
+      "Tet engine ms per step (paper Table 1/2): rotate, assemble, Galerkin naive/stream, "
+      "V-cycles, whole step; BJ-PCG, MG-PCG and V-cycles to tolerance as baselines");
+  tet_step->add_option("--cells", tet_options.cells,
+                       "Cubes across the 1 x 0.25 x 0.25 bar (24 n^3 tets); none with --cells 0");
+  tet_step->add_option("--mesh", tet_options.meshes, "Tet mesh files (bottom 10 % fixed)");
+  tet_step->add_option("--refine", tet_options.refine, "Uniform refinements of the mesh files");
+  tet_step->add_option("--rotation", tet_options.rotation, "energy | polar | smoothed_polar")
+      ->check(CLI::IsMember({"energy", "polar", "smoothed_polar"}));
+  tet_step->add_option("--vcycles", tet_options.vcycles, "V-cycles per step");
+  tet_step->add_flag("--symmetric", tet_options.symmetric,
+                     "Symmetric Gauss-Seidel sweeps (forward + backward) as each smoothing step");
+  tet_step->add_option("--steps", tet_options.steps, "Measured steps (after one warm-up)");
+  tet_step->add_option("--tolerance", tet_options.tolerance,
+                       "Relative residual of the baseline solves");
+  tet_step->add_option("--threads", tet_options.threads, "Threads (0 = default)");
+  tet_step->add_option("--coarsest", tet_options.coarsest,
                        "Coarsen until a level has <= this many vertices");
-  tet_step->add_flag("--json", tet_json, "Print JSON instead of a table");
+  tet_step->add_option("--cell-factor", tet_options.cell_factor,
+                       "First coarse cube size / mean fine edge length");
+  tet_step->add_flag("--json", tet_options.json, "Print JSON instead of a table");
   tet_step->callback([] {
-    if (tet_threads > 0) set_thread_count(tet_threads);
-    run_tet_step(tet_cells, tet_steps, tet_tolerance, tet_coarsest, tet_json);
+    if (tet_options.threads > 0) set_thread_count(tet_options.threads);
+    TetStepOptions o = tet_options;
+    std::erase_if(o.cells, [](int n) { return n == 0; });
+    run_tet_step(o);
   });
   static bool disc_json = false;
   CLI::App* disc = bench->add_subcommand(

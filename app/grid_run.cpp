@@ -14,6 +14,7 @@
 #include "mgelastic/io/vtk_writers.hpp"
 #include "mgelastic/scene/grid_setup.hpp"
 #include "progress.hpp"
+#include "run_checkpoints.hpp"
 
 namespace mgelastic::app {
 namespace {
@@ -79,6 +80,31 @@ std::vector<io::SeriesEntry> write_frame(const grid::Multigrid<3, Scalar>& mg,
   return entries;
 }
 
+// Checkpoint state of the grid engine (run_checkpoints.hpp): the multigrid's warm start (the
+// finest level's unknowns, "grid.x0".."grid.x3") and the series. A later engine feature that
+// carries more from frame to frame (e.g. velocities) adds its arrays here.
+template <typename Scalar>
+io::Checkpoint grid_checkpoint(const RunCheckpoints& checkpoints,
+                               const grid::Multigrid<3, Scalar>& mg, int frame, double time,
+                               const std::vector<io::SeriesEntry>& series) {
+  io::Checkpoint c = checkpoints.begin(frame, time);
+  const auto& x = mg.solution_state();
+  for (std::size_t f = 0; f < x.size(); ++f) c.add<double>("grid.x" + std::to_string(f), x[f]);
+  add_series(c, series);
+  return c;
+}
+
+template <typename Scalar>
+void restore_grid(const io::Checkpoint& c, grid::Multigrid<3, Scalar>& mg,
+                  std::vector<io::SeriesEntry>& series) {
+  typename grid::Multigrid<3, Scalar>::SolutionState x;
+  for (std::size_t f = 0; f < x.size(); ++f)
+    x[f] = c.get<double>("grid.x" + std::to_string(f),
+                         static_cast<std::int64_t>(mg.solution_state()[f].size()));
+  mg.set_solution_state(x);
+  series = series_of(c);
+}
+
 struct Totals {
   int frames = 0, cycles = 0;
   double solve_seconds = 0, output_seconds = 0, worst_residual = 0;
@@ -86,24 +112,37 @@ struct Totals {
 
 template <typename Scalar>
 void simulate(const scene::Scene& s, const scene::GridSetup& setup,
-              const std::filesystem::path& dir, double setup_seconds) {
+              const std::filesystem::path& dir, double setup_seconds, RunCheckpoints& checkpoints) {
   grid::MultigridOptions options;
   options.boundary_sweeps = s.boundary_sweeps;
+  options.band_layers = s.band_layers;
   options.cycle = s.cycle == "W" ? grid::CycleType::W : grid::CycleType::V;
   Timer timer;
   grid::Multigrid<3, Scalar> mg(setup.problem, options);
   const double hierarchy_seconds = timer.seconds();
   std::printf("hierarchy: %d levels, %zu unknowns, %.0f MB (%.2f s)\n", mg.levels(), mg.unknowns(),
               mg.bytes() / 1e6, hierarchy_seconds);
-  Progress progress("frames", s.time.frames);
   std::vector<io::SeriesEntry> series;
+  if (const io::Checkpoint* resume = checkpoints.resume_from()) {
+    restore_grid(*resume, mg, series);
+    std::printf("resumed from %s: frame %d (t = %.6g s) done\n", resume->source.c_str(),
+                resume->frame, resume->time);
+  }
+  Progress progress("frames", s.time.frames);
   Totals totals;
-  for (int frame = 0; frame < s.time.frames; ++frame) {
+  for (int frame = checkpoints.first_frame(); frame < s.time.frames; ++frame) {
     // Frame k shows the equilibrium at time (k + 1) dt (after the first interval).
     const double time = (frame + 1) * s.time.dt;
-    if (setup.animated()) mg.set_dirichlet_displacement(scene::dirichlet_displacement(setup, time));
-    const grid::SolveReport report = s.accelerate ? mg.solve_accelerated(s.tolerance, s.max_vcycles)
-                                                  : mg.solve(s.tolerance, s.max_vcycles);
+    grid::SolveReport report;
+    try {
+      if (setup.animated())
+        mg.set_dirichlet_displacement(scene::dirichlet_displacement(setup, time));
+      report = s.accelerate ? mg.solve_accelerated(s.tolerance, s.max_vcycles)
+                            : mg.solve(s.tolerance, s.max_vcycles);
+    } catch (const Error& e) {
+      progress.finish();
+      throw frame_failed(e, checkpoints, frame, time);
+    }
     const double relative =
         report.residuals.front() > 0 ? report.residuals.back() / report.residuals.front() : 0.0;
     totals.cycles += report.cycles();
@@ -117,8 +156,10 @@ void simulate(const scene::Scene& s, const scene::GridSetup& setup,
     std::snprintf(status, sizeof status, "t = %.3f s  %d cycles  relative residual %.2e%s", time,
                   report.cycles(), relative, report.converged ? "" : " (NOT converged)");
     progress.update(frame + 1, status);
-    totals.frames = frame + 1;
-    if (interruption_requested()) {
+    ++totals.frames;
+    const bool interrupted = interruption_requested();
+    checkpoints.completed(grid_checkpoint(checkpoints, mg, frame, time, series), interrupted);
+    if (interrupted) {
       progress.finish();
       std::printf("interrupted: stopped after frame %d of %d; every written frame is complete\n",
                   frame + 1, s.time.frames);
@@ -146,7 +187,8 @@ void simulate(const scene::Scene& s, const scene::GridSetup& setup,
 
 }  // namespace
 
-void run_grid_scene(const scene::Scene& s, const std::filesystem::path& dir) {
+void run_grid_scene(const scene::Scene& s, const std::filesystem::path& dir,
+                    RunCheckpoints& checkpoints) {
   if (!s.time.quasistatic)
     throw Error("dynamic runs of the grid engine are not implemented yet (set quasistatic: true)",
                 ErrorContext{.file = s.file, .pointer = "/time/quasistatic"});
@@ -160,9 +202,9 @@ void run_grid_scene(const scene::Scene& s, const std::filesystem::path& dir) {
       setup.voxels.dims[1], setup.voxels.dims[2], setup.surface.triangle_count(),
       setup.traction_triangles ? " (some under traction)" : "");
   if (s.precision == "double") {
-    simulate<double>(s, setup, dir, setup_seconds);
+    simulate<double>(s, setup, dir, setup_seconds, checkpoints);
   } else {
-    simulate<float>(s, setup, dir, setup_seconds);
+    simulate<float>(s, setup, dir, setup_seconds, checkpoints);
   }
 }
 

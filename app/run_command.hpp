@@ -1,6 +1,6 @@
 #pragma once
-// `mgelastic run SCENE [--threads N] [--output DIR]`: quasistatic grid-engine solve of a scene,
-// VTK output (grid fields + .pvd series) and a summary.
+// `mgelastic run SCENE [--threads N] [--output DIR] [--resume]`: the frames of a scene with the
+// grid or tet engine, VTK/OBJ/PLY output, checkpoints (run_checkpoints.hpp) and a summary.
 #include <CLI/CLI.hpp>
 #include <filesystem>
 
@@ -10,7 +10,8 @@ namespace mgelastic::app {
 
 void register_run_command(CLI::App& app);
 
-// Simulates a loaded scene and writes its outputs into `output` (empty: the scene's dir).
-void run_scene(const scene::Scene& scene, const std::filesystem::path& output);
+// Simulates a loaded scene and writes its outputs into `output` (empty: the scene's dir);
+// `resume` continues from the checkpoint there.
+void run_scene(const scene::Scene& scene, const std::filesystem::path& output, bool resume = false);
 
 }  // namespace mgelastic::app

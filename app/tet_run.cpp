@@ -19,6 +19,7 @@
 #include "mgelastic/scene/tet_setup.hpp"
 #include "mgelastic/tet/corotated_solver.hpp"
 #include "mgelastic/tet/polar_rotation.hpp"
+#include "run_checkpoints.hpp"
 
 namespace mgelastic::app {
 namespace {
@@ -86,6 +87,16 @@ std::vector<io::SeriesEntry> write_frame(const scene::Scene& s, const scene::Tet
   return entries;
 }
 
+std::string format_values(const std::vector<double>& values) {
+  std::string text;
+  char number[32];
+  for (double v : values) {
+    std::snprintf(number, sizeof number, "%s%.3e", text.empty() ? "" : " ", v);
+    text += number;
+  }
+  return text;
+}
+
 // Work of one frame: its steps (or static rounds) summed.
 struct FrameStats {
   int steps = 0;
@@ -93,15 +104,67 @@ struct FrameStats {
   double worst_residual = 0.0;
   bool converged = true;
   double rotate_seconds = 0.0, assemble_seconds = 0.0, solve_seconds = 0.0;
+  std::vector<double> residuals;  // of each step (or the last static round)
   void add(const tet::StepStats& step) {
+    residuals.push_back(step.solve.relative_residual);
     iterations += step.solve.iterations;
     worst_residual = std::max(worst_residual, step.solve.relative_residual);
     converged = converged && step.solve.converged;
     rotate_seconds += step.rotate_seconds;
     assemble_seconds += step.assemble_seconds;
-    solve_seconds += step.solve_seconds;
+    solve_seconds += step.solve_seconds + step.galerkin_seconds;  // multigrid: Galerkin update
   }
 };
+
+// Checkpoint state of the tet engine (run_checkpoints.hpp): CorotatedState as arrays
+// ("tet.rotations" holds the quaternions' x, y, z, w per element) and the series.
+io::Checkpoint tet_checkpoint(const RunCheckpoints& checkpoints, const tet::CorotatedSolver& solver,
+                              int frame, double time, const std::vector<io::SeriesEntry>& series) {
+  const tet::CorotatedState state = solver.state();
+  io::Checkpoint c = checkpoints.begin(frame, time);
+  const auto add = [&](const char* name, const Eigen::VectorXd& v) {
+    c.add<double>(name, std::span(v.data(), static_cast<std::size_t>(v.size())));
+  };
+  add("tet.positions", state.positions);
+  add("tet.velocities", state.velocities);
+  add("tet.accelerations", state.accelerations);
+  std::vector<double> rotations;
+  for (const Eigen::Quaterniond& q : state.rotations)
+    rotations.insert(rotations.end(), q.coeffs().data(), q.coeffs().data() + 4);
+  c.add<double>("tet.rotations", rotations);
+  const std::vector<double> clock{state.time};
+  c.add<double>("tet.time", clock);
+  const std::vector<std::int64_t> counters{state.have_acceleration ? 1 : 0, state.steps};
+  c.add<std::int64_t>("tet.counters", counters);
+  add_series(c, series);
+  return c;
+}
+
+void restore_tet(const io::Checkpoint& c, tet::CorotatedSolver& solver,
+                 std::vector<io::SeriesEntry>& series) {
+  tet::CorotatedState state = solver.state();
+  const auto get = [&](const char* name, Eigen::VectorXd& v) {
+    const std::vector<double> values = c.get<double>(name, v.size());
+    v = Eigen::Map<const Eigen::VectorXd>(values.data(), v.size());
+  };
+  get("tet.positions", state.positions);
+  get("tet.velocities", state.velocities);
+  get("tet.accelerations", state.accelerations);
+  const std::vector<double> rotations =
+      c.get<double>("tet.rotations", 4 * static_cast<std::int64_t>(state.rotations.size()));
+  for (std::size_t e = 0; e < state.rotations.size(); ++e)
+    state.rotations[e].coeffs() = Eigen::Map<const Eigen::Vector4d>(rotations.data() + 4 * e);
+  state.time = c.get<double>("tet.time", 1)[0];
+  const std::vector<std::int64_t> counters = c.get<std::int64_t>("tet.counters", 2);
+  state.have_acceleration = counters[0] != 0;
+  state.steps = counters[1];
+  try {
+    solver.restore(state);
+  } catch (const Error& e) {
+    throw Error("corrupted checkpoint: " + e.reason(), ErrorContext{.file = c.source});
+  }
+  series = series_of(c);
+}
 
 const char* rotation_name(tet::RotationMethod method) {
   switch (method) {
@@ -117,7 +180,8 @@ const char* rotation_name(tet::RotationMethod method) {
 
 }  // namespace
 
-void run_tet_scene(const scene::Scene& s, const std::filesystem::path& output_dir) {
+void run_tet_scene(const scene::Scene& s, const std::filesystem::path& output_dir,
+                   RunCheckpoints& checkpoints) {
   Timer timer;
   const scene::TetSetup setup = scene::build_tet_setup(s);
   tet::CorotatedSolver solver(setup.mesh, setup.materials, setup.settings);
@@ -131,7 +195,15 @@ void run_tet_scene(const scene::Scene& s, const std::filesystem::path& output_di
     throw Error("cannot create the output directory: " + ec.message(),
                 ErrorContext{.file = output_dir.string()});
 
-  const bool pcg = setup.settings.linear_solver == tet::LinearSolver::PCG;
+  const tet::LinearSolver kind = setup.settings.linear_solver;
+  const bool pcg = kind != tet::LinearSolver::CHOLESKY;  // iterative: iterations are reported
+  const char* solver_name = kind == tet::LinearSolver::MULTIGRID ? "multigrid V-cycles"
+                            : kind == tet::LinearSolver::MG_PCG  ? "multigrid-preconditioned CG"
+                            : pcg                                ? "block-Jacobi PCG"
+                                                                 : "sparse Cholesky";
+  const char* iteration_name = kind == tet::LinearSolver::MULTIGRID ? " V-cycles"
+                               : kind == tet::LinearSolver::MG_PCG  ? " MG-PCG iterations"
+                                                                    : " PCG iterations";
   char mesh[160] = "", stepping[160] = "quasistatic (one equilibrium per frame)";
   std::snprintf(mesh, sizeof mesh, "%s", setup.mesh_source.c_str());
   if (setup.cell_size > 0)
@@ -146,31 +218,53 @@ void run_tet_scene(const scene::Scene& s, const std::filesystem::path& output_di
       "  %s, rotations by %s, %s, %d frames of %.4g s\n",
       s.file.c_str(), setup.mesh.vertex_count(), setup.mesh.tet_count(), mesh,
       setup.dirichlet_vertices.size(), surface.triangles.rows(), stepping,
-      rotation_name(setup.settings.rotation_method), pcg ? "block-Jacobi PCG" : "sparse Cholesky",
-      s.time.frames, s.time.dt);
+      rotation_name(setup.settings.rotation_method), solver_name, s.time.frames, s.time.dt);
   std::fflush(stdout);
 
   std::vector<io::SeriesEntry> series;
+  if (const io::Checkpoint* resume = checkpoints.resume_from()) {
+    restore_tet(*resume, solver, series);
+    std::printf("resumed from %s: frame %d (t = %.6g s) done\n", resume->source.c_str(),
+                resume->frame, resume->time);
+  }
   FrameStats total;
   double output_seconds = 0.0;
-  int unconverged_frames = 0;
-  for (int frame = 0; frame < s.time.frames; ++frame) {
+  int unconverged_frames = 0, frames_run = 0;
+  for (int frame = checkpoints.first_frame(); frame < s.time.frames; ++frame) {
     // Frame k shows the state at time (k + 1) dt, as in the grid engine.
     const double time = (frame + 1) * s.time.dt;
     FrameStats stats;
-    if (s.time.quasistatic) {
-      // The clock decides where the keyframed regions are; the previous equilibrium is the start.
-      solver.set_time(time);
-      const tet::StepStats& step = solver.solve_static(kStaticRounds, s.tet.tolerance);
-      stats.add(step);
-      stats.steps = step.static_iterations;
-      stats.converged = stats.converged && step.static_converged;
-    } else {
-      for (int k = 0; k < s.time.substeps; ++k) {
-        stats.add(solver.step());
-        ++stats.steps;
+    try {
+      if (s.time.quasistatic) {
+        // The clock decides where the keyframed regions are; the previous equilibrium is the
+        // start.
+        solver.set_time(time);
+        const tet::StepStats& step = solver.solve_static(kStaticRounds, s.tet.tolerance);
+        stats.add(step);
+        stats.steps = step.static_iterations;
+        stats.converged = stats.converged && step.static_converged;
+      } else {
+        for (int k = 0; k < s.time.substeps; ++k) {
+          stats.add(solver.step());
+          ++stats.steps;
+        }
       }
+    } catch (const Error& e) {
+      // Which step of the frame failed, and how the steps before it went.
+      const std::string history = stats.residuals.empty()
+                                      ? std::string()
+                                      : ", after " + std::to_string(stats.steps) +
+                                            " good step(s) with relative residuals " +
+                                            format_values(stats.residuals);
+      std::string where = e.context().pointer;
+      where = (where.empty() ? "" : where + ": ") + e.reason();
+      const std::string step = s.time.quasistatic ? std::string("static solve")
+                                                  : "step " + std::to_string(solver.step_count());
+      throw frame_failed(
+          Error(where + " (" + step + history + ")", ErrorContext{.pointer = "tet solver"}),
+          checkpoints, frame, time);
     }
+    ++frames_run;
     unconverged_frames += stats.converged ? 0 : 1;
     total.steps += stats.steps;
     total.iterations += stats.iterations;
@@ -186,7 +280,7 @@ void run_tet_scene(const scene::Scene& s, const std::filesystem::path& output_di
     const double frame_output_seconds = timer.seconds();
     output_seconds += frame_output_seconds;
     const std::string iterations =
-        pcg ? "  " + std::to_string(stats.iterations) + " PCG iterations" : std::string();
+        pcg ? "  " + std::to_string(stats.iterations) + iteration_name : std::string();
     std::printf(
         "frame %4d/%d  t = %.4f s  %d %s%s  residual %.2e%s  rotate %.3f s  assemble %.3f s  "
         "solve %.3f s  output %.3f s\n",
@@ -194,22 +288,24 @@ void run_tet_scene(const scene::Scene& s, const std::filesystem::path& output_di
         iterations.c_str(), stats.worst_residual, stats.converged ? "" : " (NOT converged)",
         stats.rotate_seconds, stats.assemble_seconds, stats.solve_seconds, frame_output_seconds);
     std::fflush(stdout);
-    if (interruption_requested()) {
+    const bool interrupted = interruption_requested();
+    checkpoints.completed(tet_checkpoint(checkpoints, solver, frame, time, series), interrupted);
+    if (interrupted) {
       std::printf("interrupted: stopped after frame %d of %d; every written frame is complete\n",
                   frame + 1, s.time.frames);
       break;
     }
   }
   const std::string iterations =
-      pcg ? ", " + std::to_string(total.iterations) + " PCG iterations" : std::string();
+      pcg ? ", " + std::to_string(total.iterations) + iteration_name : std::string();
   std::printf(
       "summary: %d vertices, %d tets, %zu Dirichlet vertices, %d frames, %d %s%s, worst "
       "relative residual %.2e\n"
       "time: setup %.2f s, rotate %.2f s, assemble %.2f s, solve %.2f s, output %.2f s\n",
       setup.mesh.vertex_count(), setup.mesh.tet_count(), setup.dirichlet_vertices.size(),
-      s.time.frames, total.steps, s.time.quasistatic ? "static rounds" : "steps",
-      iterations.c_str(), total.worst_residual, setup_seconds, total.rotate_seconds,
-      total.assemble_seconds, total.solve_seconds, output_seconds);
+      frames_run, total.steps, s.time.quasistatic ? "static rounds" : "steps", iterations.c_str(),
+      total.worst_residual, setup_seconds, total.rotate_seconds, total.assemble_seconds,
+      total.solve_seconds, output_seconds);
   if (unconverged_frames > 0)
     std::printf("warning: %d frame(s) did not converge (%s)\n", unconverged_frames,
                 s.time.quasistatic ? "the static iteration or PCG did not reach tet.tolerance"

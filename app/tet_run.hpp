@@ -12,9 +12,13 @@
 #include <filesystem>
 
 #include "mgelastic/scene/scene.hpp"
+#include "run_checkpoints.hpp"
 
 namespace mgelastic::app {
 
-void run_tet_scene(const scene::Scene& s, const std::filesystem::path& output_dir);
+// Starts at checkpoints.first_frame() (from its resume state) and hands each frame's state to it;
+// a failing step stops the run with the step, the phase and the frame's residuals so far.
+void run_tet_scene(const scene::Scene& s, const std::filesystem::path& output_dir,
+                   RunCheckpoints& checkpoints);
 
 }  // namespace mgelastic::app

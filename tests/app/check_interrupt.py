@@ -1,5 +1,6 @@
-"""SIGINT during `mgelastic run`: the run finishes the frame in progress, exits with 130, and
-every frame listed in simulation.pvd is complete (parses, has its fields)."""
+"""SIGINT during `mgelastic run`: the run finishes the frame in progress, exits with 130, every
+frame listed in simulation.pvd is complete (parses, has its fields), and checkpoint.mgck holds
+the last of them."""
 import json, os, shutil, signal, subprocess, sys, time
 import xml.etree.ElementTree as E
 
@@ -24,4 +25,10 @@ for name in frames:
     root = E.parse(os.path.join("interrupt_out", name)).getroot()
     assert any(a.get("Name") == "displacement" for a in root.iter("DataArray")), name
 assert not [f for f in os.listdir("interrupt_out") if f.endswith(".tmp")]
+# The interrupted run left a checkpoint of its last frame for `run --resume`; payload after the
+# 28-byte header: u32 engine length, engine, u64 fingerprint, i32 threads, i32 frame.
+data = open("interrupt_out/checkpoint.mgck", "rb").read()
+n = int.from_bytes(data[28:32], "little")
+assert data[:8] == b"MGECKPT\0" and data[32:32 + n] == b"tet", data[:40]
+assert int.from_bytes(data[32 + n + 12:32 + n + 16], "little") == len(frames) // 2 - 1
 print("ok", len(frames) // 2, "frames")

@@ -74,5 +74,21 @@ TEST(BlockJacobiPcg, IndefiniteSystemThrows) {
   EXPECT_THROW(solve_pcg(system, p.b, x, PcgSettings{}), Error);
 }
 
+// The failure names the iteration and carries the relative residuals so far (1 at x = 0).
+TEST(BlockJacobiPcg, FailureMessageCarriesTheResidualHistory) {
+  Problem p;
+  const StepSystem system(p.assembler.stiffness(), p.body.vertex_mass(), -1.0, 0.0, p.fixed);
+  Eigen::VectorXd x;
+  try {
+    solve_pcg(system, p.b, x, PcgSettings{});
+    FAIL() << "an indefinite system was solved";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("non-positive curvature p.Ap (matrix not SPD) at "
+                                         "iteration 0; relative residual history: 1.000e+00"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace mgelastic::tet

@@ -48,8 +48,8 @@ TEST(TetHierarchy, ProlongationIsAPartitionOfUnityReproducingLinearFields) {
   ASSERT_GE(hierarchy.level_count(), 3);
   for (int l = 0; l + 1 < hierarchy.level_count(); ++l) {
     const Prolongation& p = hierarchy.prolongation(l);
-    const Eigen::MatrixX3d& fine = l == 0 ? mesh.vertices : hierarchy.coarse_mesh(l).vertices;
-    const Eigen::MatrixX3d& coarse = hierarchy.coarse_mesh(l + 1).vertices;
+    const Eigen::MatrixX3d& fine = hierarchy.positions(l);
+    const Eigen::MatrixX3d& coarse = hierarchy.positions(l + 1);
     // Prolonging the coarse positions (a linear field) gives the fine positions.
     Eigen::VectorXd coarse_field(3 * coarse.rows()),
         fine_field = Eigen::VectorXd::Zero(3 * fine.rows());
@@ -99,6 +99,42 @@ TEST(TetHierarchy, CoarseVertexIsConstrainedWhenItsSupportIsAllDirichlet) {
     }
   }
   EXPECT_GT(constrained_coarse, 0);
+}
+
+// Two slabs separated by a gap narrower than a coarse cube: grid vertices in the gap see fine
+// vertices of both slabs, and are split into one DOF per slab, so the coarse space does not tie
+// the slabs together. Every coarse DOF's support lies in one slab; P stays a partition of unity.
+TEST(TetHierarchy, CoarseVerticesStraddlingAGapAreSplitPerPart) {
+  const double h = 0.25 / 4;
+  const geometry::TetMesh slab = test::box_mesh(Eigen::Vector3d(1.0, 0.25, 0.25), h);
+  geometry::TetMesh mesh;
+  const double offset = 0.25 + 0.05;  // gap 0.05, coarse cube ~2.5 h = 0.16
+  mesh.vertices.resize(2 * slab.vertex_count(), 3);
+  mesh.vertices.topRows(slab.vertex_count()) = slab.vertices;
+  mesh.vertices.bottomRows(slab.vertex_count()) = slab.vertices;
+  mesh.vertices.bottomRows(slab.vertex_count()).col(1).array() += offset;
+  mesh.tets.resize(2 * slab.tet_count(), 4);
+  mesh.tets.topRows(slab.tet_count()) = slab.tets;
+  mesh.tets.bottomRows(slab.tet_count()) = slab.tets.array() + slab.vertex_count();
+  TetHierarchySettings settings;
+  settings.max_coarsest_vertices = 100;
+  const TetHierarchy hierarchy(mesh, {}, settings);
+  ASSERT_GE(hierarchy.level_count(), 2);
+  EXPECT_GT(hierarchy.vertex_count(1), hierarchy.coarse_mesh(1).vertex_count());
+  const Prolongation& p = hierarchy.prolongation(0);
+  std::vector<int> side(p.coarse_vertex_count, -1);  // slab of the support, -1 = none yet
+  for (int v = 0; v < p.fine_vertex_count(); ++v) {
+    const int slab_of_v = v < slab.vertex_count() ? 0 : 1;
+    double sum = 0.0;
+    for (int s = 0; s < 4; ++s) {
+      sum += p.weights[v][s];
+      if (p.weights[v][s] == 0.0) continue;
+      int& owner = side[p.vertices[v][s]];
+      if (owner < 0) owner = slab_of_v;
+      EXPECT_EQ(owner, slab_of_v) << "coarse DOF " << p.vertices[v][s] << " spans both slabs";
+    }
+    EXPECT_NEAR(sum, 1.0, kWeightRoundoff);
+  }
 }
 
 TEST(TetHierarchy, RejectsAConstraintVectorOfTheWrongSize) {

@@ -5,8 +5,9 @@
 namespace mgelastic::geometry::detail {
 
 void SurfaceMeshBuilder::reserve(long vertices, long triangles) {
-  // Counts come from file headers: cap them so a corrupt header cannot demand terabytes.
-  const long cap = 1L << 24;
+  // Counts come from file headers: cap them so a corrupt header cannot demand terabytes (every
+  // vertex and triangle takes at least a byte of the file).
+  const long cap = std::min(1L << 24, static_cast<long>(m_cursor.remaining()));
   m_vertices.reserve(3 * std::min(std::max(vertices, 0L), cap));
   m_triangles.reserve(3 * std::min(std::max(triangles, 0L), cap));
 }

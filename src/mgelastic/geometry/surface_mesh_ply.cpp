@@ -139,13 +139,26 @@ class PlyValueReader {
     return 0.0;
   }
 
-  // Reads a list property into `items` (as long; only called for integer items).
+  // Reads a list property: integer items into `items`, floating-point items are only skipped
+  // (index lists are integers; a float list is some other property).
   void list(const PlyProperty& property, std::vector<long>& items, const std::string& what) {
     const double n = value(property.count_type, what + " count");
     if (n < 0) throw error("negative list length in " + what);
     // Grow item by item: a corrupt length then ends in a truncation error, not a huge allocation.
     items.clear();
-    for (double i = 0; i < n; ++i) items.push_back(static_cast<long>(value(property.type, what)));
+    for (double i = 0; i < n; ++i) {
+      if (is_integer(property.type)) {
+        items.push_back(integer(property.type, what));
+      } else {
+        value(property.type, what);
+      }
+    }
+  }
+
+  // An integer value read as such: ASCII integers beyond 2^53 must not round through double.
+  long integer(PlyType type, const std::string& what) {
+    if (m_format == PlyFormat::ASCII) return m_cursor.expect_int(what);
+    return static_cast<long>(value(type, what));  // exact: binary integers have at most 32 bits
   }
 
   Error error(const std::string& reason) const {
@@ -216,6 +229,7 @@ void read_faces(const PlyElement& element, long vertex_count, PlyValueReader& re
 }
 
 void skip_element(const PlyElement& element, PlyValueReader& reader) {
+  if (element.properties.empty()) return;  // no data, whatever the (maybe huge) count says
   std::vector<long> skipped;
   for (long i = 0; i < element.count; ++i)
     for (const PlyProperty& property : element.properties)
@@ -232,6 +246,12 @@ long declared_vertex_count(const PlyHeader& header, const TextCursor& cursor) {
   throw cursor.error("no 'vertex' element in the header");
 }
 
+long declared_face_count(const PlyHeader& header) {
+  for (const PlyElement& element : header.elements)
+    if (element.name == "face") return element.count;
+  return 0;
+}
+
 // Counts in the header must account for all the data: leftovers mean a corrupt file.
 void expect_end(TextCursor& cursor, const PlyValueReader& reader) {
   std::string_view token;
@@ -246,7 +266,7 @@ TriangleMesh read_ply(const std::filesystem::path& path) {
   const PlyHeader header = read_header(cursor);
   const long vertex_count = declared_vertex_count(header, cursor);
   SurfaceMeshBuilder builder(cursor, header.format != PlyFormat::ASCII);
-  builder.reserve(vertex_count, 2 * vertex_count);
+  builder.reserve(vertex_count, declared_face_count(header));
   PlyValueReader reader(cursor, header.format);
   for (const PlyElement& element : header.elements) {
     if (element.name == "vertex") {

@@ -122,7 +122,9 @@ void read_elements_v2_ascii(TextCursor& cursor, long count, GmshData& data) {
     const long type = parse_int(tokens[1], cursor, "element type");
     const long ntags = parse_int(tokens[2], cursor, "tag count");
     if (type != kTetrahedron) continue;
-    if (ntags < 0 || static_cast<long>(tokens.size()) != 3 + ntags + 4)
+    if (ntags < 0 || ntags > static_cast<long>(tokens.size()))
+      throw cursor.error("invalid tag count " + std::to_string(ntags));
+    if (static_cast<long>(tokens.size()) != 3 + ntags + 4)
       throw cursor.error("tetrahedron line needs " + std::to_string(3 + ntags + 4) + " values");
     std::array<long, 4> nodes;
     for (int a = 0; a < 4; ++a) nodes[a] = parse_int(tokens[3 + ntags + a], cursor, "node tag");
@@ -143,7 +145,8 @@ void read_elements_v2_binary(TextCursor& cursor, long count, GmshData& data) {
     if (nodes == 0 || n <= 0 || ntags < 0 || done + n > count)
       throw cursor.binary_error("invalid element block (type " + std::to_string(type) + ", size " +
                                 std::to_string(n) + ")");
-    std::vector<int> record(1 + ntags + nodes);
+    cursor.require_room(ntags, sizeof(int), "element tags", true);
+    std::vector<int> record(std::size_t{1} + ntags + nodes);
     for (int i = 0; i < n; ++i) {
       cursor.read_bytes(record.data(), record.size() * sizeof(int), "element record");
       if (type != kTetrahedron) continue;
@@ -185,6 +188,8 @@ void read_node_block_v4(TextCursor& cursor, bool binary, GmshData& data) {
   const long n = read_size(cursor, binary, "block node count");
   if (dim < 0 || dim > 3 || parametric < 0 || parametric > 1 || n < 0)
     throw cursor.error("invalid node block header");
+  // A node is a tag and three coordinates: 4 numbers of text or 32 bytes.
+  cursor.require_room(n, binary ? 32 : 8, "nodes", binary);
   std::vector<long> tags(n);
   for (long i = 0; i < n; ++i) tags[i] = read_size(cursor, binary, "node tag");
   const int values = 3 + (parametric ? dim : 0);

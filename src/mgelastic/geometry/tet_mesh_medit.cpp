@@ -31,14 +31,16 @@ const std::map<std::string, int>& skipped_section_widths() {
   return widths;
 }
 
-long section_count(TextCursor& cursor, const std::string& section) {
+// The entity count of a section whose entities have `width` numbers each.
+long section_count(TextCursor& cursor, const std::string& section, int width) {
   const long count = cursor.expect_int(section + " count");
   if (count < 0) throw cursor.error("negative " + section + " count");
+  cursor.require_room(count, 2 * width, section);
   return count;
 }
 
 void read_vertices(TextCursor& cursor, TetMesh& mesh) {
-  const long count = section_count(cursor, "Vertices");
+  const long count = section_count(cursor, "Vertices", 4);
   mesh.vertices.resize(count, 3);
   for (long v = 0; v < count; ++v) {
     for (int k = 0; k < 3; ++k) mesh.vertices(v, k) = cursor.expect_double("vertex coordinate");
@@ -47,26 +49,26 @@ void read_vertices(TextCursor& cursor, TetMesh& mesh) {
 }
 
 void read_tetrahedra(TextCursor& cursor, TetMesh& mesh, std::vector<long>& lines) {
-  const long count = section_count(cursor, "Tetrahedra");
+  const long count = section_count(cursor, "Tetrahedra", 5);
   mesh.tets.resize(count, 4);
   mesh.element_tags.resize(count);
   lines.resize(count);
   for (long t = 0; t < count; ++t) {
     for (int a = 0; a < 4; ++a) {
-      const long v = cursor.expect_int("tetrahedron vertex") - 1;
+      const long index = cursor.expect_int("tetrahedron vertex");  // 1-based
       if (a == 0) lines[t] = cursor.line();
-      if (v < 0 || v >= mesh.vertex_count())
-        throw cursor.error("vertex index " + std::to_string(v + 1) + " out of range [1, " +
+      if (index < 1 || index > mesh.vertex_count())
+        throw cursor.error("vertex index " + std::to_string(index) + " out of range [1, " +
                            std::to_string(mesh.vertex_count()) +
                            "] (or Tetrahedra before Vertices)");
-      mesh.tets(t, a) = static_cast<int>(v);
+      mesh.tets(t, a) = static_cast<int>(index - 1);
     }
     mesh.element_tags(t) = static_cast<int>(cursor.expect_int("tetrahedron reference"));
   }
 }
 
 void skip_section(TextCursor& cursor, const std::string& keyword, int width) {
-  const long count = section_count(cursor, keyword);
+  const long count = section_count(cursor, keyword, width);
   for (long i = 0; i < count * width; ++i) cursor.expect_token(keyword + " entry");
 }
 

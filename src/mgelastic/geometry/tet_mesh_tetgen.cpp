@@ -37,6 +37,9 @@ long read_nodes(TextCursor& cursor, TetMesh& mesh) {
   const long markers = head.size() > 3 ? parse_int(head[3], cursor, "boundary marker flag") : 0;
   if (count <= 0 || dimension != 3 || attributes < 0 || markers < 0 || markers > 1)
     throw cursor.error("invalid node header (need count > 0, dimension 3)");
+  cursor.require_room(attributes, 2, "attributes per node");
+  const long values = 4 + attributes + markers;
+  cursor.require_room(count, 2 * values, "nodes");
   mesh.vertices.resize(count, 3);
   long base = 0;
   Record tokens;
@@ -44,9 +47,9 @@ long read_nodes(TextCursor& cursor, TetMesh& mesh) {
     if (!cursor.next_record(tokens))
       throw cursor.error("unexpected end of file (truncated?): read " + std::to_string(i) + " of " +
                          std::to_string(count) + " nodes");
-    if (static_cast<long>(tokens.size()) != 4 + attributes + markers)
+    if (static_cast<long>(tokens.size()) != values)
       throw cursor.error("node line has " + std::to_string(tokens.size()) + " values, expected " +
-                         std::to_string(4 + attributes + markers));
+                         std::to_string(values));
     const long index = parse_int(tokens[0], cursor, "node index");
     if (i == 0) base = index;
     if (index != base + i || (base != 0 && base != 1))
@@ -64,6 +67,9 @@ void read_elements(TextCursor& cursor, long base, TetMesh& mesh, std::vector<lon
   const long attributes = head.size() > 2 ? parse_int(head[2], cursor, "attribute count") : 0;
   if (count <= 0 || (nodes != 4 && nodes != 10) || attributes < 0)
     throw cursor.error("invalid element header (need count > 0, 4 or 10 nodes per tetrahedron)");
+  cursor.require_room(attributes, 2, "attributes per tetrahedron");
+  const long values = 1 + nodes + attributes;
+  cursor.require_room(count, 2 * values, "tetrahedra");
   mesh.tets.resize(count, 4);
   lines.resize(count);
   Record tokens;
@@ -71,15 +77,16 @@ void read_elements(TextCursor& cursor, long base, TetMesh& mesh, std::vector<lon
     if (!cursor.next_record(tokens))
       throw cursor.error("unexpected end of file (truncated?): read " + std::to_string(e) + " of " +
                          std::to_string(count) + " tetrahedra");
-    if (static_cast<long>(tokens.size()) != 1 + nodes + attributes)
+    if (static_cast<long>(tokens.size()) != values)
       throw cursor.error("element line has " + std::to_string(tokens.size()) +
-                         " values, expected " + std::to_string(1 + nodes + attributes));
+                         " values, expected " + std::to_string(values));
     lines[e] = cursor.line();
     for (int a = 0; a < 4; ++a) {
-      const long v = parse_int(tokens[1 + a], cursor, "vertex index") - base;
-      if (v < 0 || v >= mesh.vertex_count())
+      // Compared before subtracting the base: the file may hold any long, LONG_MIN included.
+      const long index = parse_int(tokens[1 + a], cursor, "vertex index");
+      if (index < base || index - base >= mesh.vertex_count())
         throw cursor.error("vertex index " + std::string(tokens[1 + a]) + " out of range");
-      mesh.tets(e, a) = static_cast<int>(v);
+      mesh.tets(e, a) = static_cast<int>(index - base);
     }
   }
   expect_end(cursor, count, "elements");

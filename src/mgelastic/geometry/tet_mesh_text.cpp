@@ -96,6 +96,15 @@ void TextCursor::read_bytes(void* destination, std::size_t count, const std::str
   m_pos += count;
 }
 
+void TextCursor::require_room(long count, std::size_t min_bytes, const std::string& what,
+                              bool binary) const {
+  // The last item may lack its trailing separator, hence the + 1.
+  if (count >= 0 && static_cast<std::size_t>(count) <= (remaining() + 1) / min_bytes) return;
+  const std::string reason = "the file cannot hold " + std::to_string(count) + " " + what + " (" +
+                             std::to_string(remaining()) + " bytes left; corrupt count?)";
+  throw binary ? binary_error(reason) : error(reason);
+}
+
 void TextCursor::skip_past(std::string_view marker) {
   const std::size_t found = m_data.find(marker, m_pos);
   if (found == std::string::npos)

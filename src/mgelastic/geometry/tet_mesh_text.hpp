@@ -23,6 +23,13 @@ class TextCursor {
   const std::string& source() const { return m_source; }
   long line() const { return m_line; }
   bool at_end() const { return m_pos >= m_data.size(); }
+  // Bytes not read yet.
+  std::size_t remaining() const { return m_data.size() - m_pos; }
+  // Error unless `count` items of at least `min_bytes` bytes each fit in the bytes left (a text
+  // item of k tokens needs 2k bytes: digits and separators). Counts come from file headers: a
+  // corrupt one must fail here, not in a huge allocation or a loop over nothing.
+  void require_room(long count, std::size_t min_bytes, const std::string& what,
+                    bool binary = false) const;
 
   // Next token; false at end of data. Tokens never cross lines' whitespace.
   bool next_token(std::string_view& token);

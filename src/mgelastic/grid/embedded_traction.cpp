@@ -7,10 +7,12 @@
 namespace mgelastic::grid {
 
 template <int Dim>
-std::int64_t BoundaryStressTable<Dim>::key(int i, int j, const Vec<Dim>& where) const {
+typename BoundaryStressTable<Dim>::Key BoundaryStressTable<Dim>::key(int i, int j,
+                                                                     const Vec<Dim>& where) const {
   // Stress locations lie on a half-cell lattice: quantize to quarter cells.
-  std::int64_t k = i * Dim + j;
-  for (int a = 0; a < Dim; ++a) k = k * 4000003 + std::llround(4.0 * where[a] / m_h);
+  Key k;
+  k[0] = i * Dim + j;
+  for (int a = 0; a < Dim; ++a) k[a + 1] = std::llround(4.0 * where[a] / m_h);
   return k;
 }
 

@@ -12,8 +12,9 @@
 // Shares on Dirichlet variables are held by the constraint. Corners that no equation references
 // (inactive faces at staircase corners, one-cell-thin bodies) cannot carry force: the weights are
 // renormalized over the other corners, so the force on the body is conserved exactly.
+#include <array>
 #include <cstdint>
-#include <unordered_map>
+#include <map>
 #include <vector>
 
 #include "mgelastic/grid/problem.hpp"
@@ -43,9 +44,11 @@ class BoundaryStressTable {
   std::size_t size() const { return m_values.size(); }
 
  private:
-  std::int64_t key(int i, int j, const Vec<Dim>& where) const;
+  // (i * Dim + j, location in quarter cells): exact, so no two stresses can share an entry.
+  using Key = std::array<std::int64_t, Dim + 1>;
+  Key key(int i, int j, const Vec<Dim>& where) const;
   double m_h;
-  std::unordered_map<std::int64_t, double> m_values;
+  std::map<Key, double> m_values;
 };
 
 // Adds the forces to `problem`: variable loads for interior shares, and a boundary-stress table

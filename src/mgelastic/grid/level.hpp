@@ -134,11 +134,12 @@ struct Level {
 
 // Builds a level: classifies variables, picks distributive vs band relaxation, builds the band
 // rows and traction rules. `coarse_cells` (may be null on the coarsest level) is the next coarser
-// level's typing, which defines the Fig. 8 sets. Dirichlet values are not set here.
+// level's typing, which defines the Fig. 8 sets. `band_layers` extra cell layers join the band
+// (MultigridOptions::band_layers). Dirichlet values are not set here.
 template <int Dim, typename Scalar>
 Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType> cells,
                                const Material& material, const BoundaryStress<Dim>& sigma,
-                               const std::vector<CellType>* coarse_cells);
+                               const std::vector<CellType>* coarse_cells, int band_layers = 0);
 
 // Writes prescribed displacements into every Dirichlet variable of the level.
 template <int Dim, typename Scalar>

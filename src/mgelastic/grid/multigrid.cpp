@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <type_traits>
 #include <utility>
 
@@ -109,7 +108,8 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
   if constexpr (mixed) {
     m_solution = std::make_unique<Level<Dim, double>>(
         build_level<Dim, double>(lattices[0], cells[0], problem.material, problem.boundary_stress,
-                                 lattices.size() > 1 ? &cells[1] : nullptr));
+                                 lattices.size() > 1 ? &cells[1] : nullptr,
+                                 m_options.band_layers));
     set_dirichlet_values(*m_solution, problem.dirichlet_displacement);
     set_right_hand_side(problem, *m_solution);
     back_substitute_traction(*m_solution);
@@ -132,7 +132,7 @@ void Multigrid<Dim, Scalar>::build_levels(const ElasticityProblem<Dim>& problem,
     m_levels.push_back(
         build_level<Dim, Scalar>(lattices[l], cells[l], problem.material,
                                  finest ? problem.boundary_stress : BoundaryStress<Dim>{},
-                                 coarsest ? nullptr : &cells[l + 1]));
+                                 coarsest ? nullptr : &cells[l + 1], m_options.band_layers));
   }
 }
 
@@ -177,20 +177,35 @@ void Multigrid<Dim, Scalar>::set_right_hand_side(const ElasticityProblem<Dim>& p
 }
 
 template <int Dim, typename Scalar>
-void Multigrid<Dim, Scalar>::smooth(int l) {
+void Multigrid<Dim, Scalar>::smooth(int l, bool pre) {
   Level<Dim, Scalar>& level = m_levels[l];
   // Sec. 5.2: a boundary pass, the interior distributive pass, a last boundary pass; then the
   // traction variables are back-substituted so every boundary condition holds exactly.
   Timer timer;
   band_gauss_seidel(level, m_boundary_sweeps);
   m_phases.boundary_smoothing += timer.seconds();
+  observe(l, pre ? CyclePhase::PRE_SMOOTHING_BOUNDARY : CyclePhase::POST_SMOOTHING_BOUNDARY);
   timer.restart();
   distributive_sweep(level);
   m_phases.interior_smoothing += timer.seconds();
+  observe(l, pre ? CyclePhase::PRE_SMOOTHING_INTERIOR : CyclePhase::POST_SMOOTHING_INTERIOR);
   timer.restart();
   band_gauss_seidel(level, m_boundary_sweeps);
   back_substitute_traction(level);
   m_phases.boundary_smoothing += timer.seconds();
+  observe(l, pre ? CyclePhase::PRE_SMOOTHING_BOUNDARY_AFTER
+                 : CyclePhase::POST_SMOOTHING_BOUNDARY_AFTER);
+}
+
+template <int Dim, typename Scalar>
+void Multigrid<Dim, Scalar>::observe(int l, CyclePhase phase) {
+  if (!m_monitor) return;
+  Level<Dim, Scalar>& level = m_levels[l];
+  bool finite = true;
+  for (const auto& field : level.x)
+    for (Scalar v : field) finite = finite && std::isfinite(v);
+  // Overwrites level.r, which the cycle recomputes before it reads it (restriction).
+  m_monitor->record(l, phase, compute_residual(level), finite);
 }
 
 template <int Dim, typename Scalar>
@@ -230,6 +245,7 @@ double Multigrid<Dim, Scalar>::vcycle() {
 
 template <int Dim, typename Scalar>
 void Multigrid<Dim, Scalar>::cycle_correction() {
+  observe(0, CyclePhase::CYCLE_START);
   correct(0);
 }
 
@@ -242,27 +258,32 @@ void Multigrid<Dim, Scalar>::correct(int l) {
   if (l == coarsest) {
     m_coarse->solve(m_levels[coarsest]);
     m_phases.coarse_solve += timer.seconds();
+    observe(l, CyclePhase::COARSE_SOLVE);
     return;
   }
-  smooth(l);
+  smooth(l, true);
   timer.restart();
   band_gauss_seidel(m_levels[l], m_options.relocation_sweeps, &m_levels[l].pre_restriction_rows);
   m_phases.boundary_smoothing += timer.seconds();
+  observe(l, CyclePhase::RELOCATION_BEFORE_RESTRICTION);
   timer.restart();
   compute_residual(m_levels[l]);
   m_phases.residual += timer.seconds();
   timer.restart();
   restrict_residual(m_levels[l], m_levels[l + 1]);
   m_phases.restriction += timer.seconds();
+  observe(l + 1, CyclePhase::RESTRICTION);
   const int visits = (m_options.cycle == CycleType::W && l + 1 < coarsest) ? 2 : 1;
   for (int visit = 0; visit < visits; ++visit) correct(l + 1);
   timer.restart();
   prolongate_correction(m_levels[l + 1], m_levels[l]);
   m_phases.prolongation += timer.seconds();
+  observe(l, CyclePhase::PROLONGATION);
   timer.restart();
   band_gauss_seidel(m_levels[l], m_options.relocation_sweeps, &m_levels[l].post_prolongation_rows);
   m_phases.boundary_smoothing += timer.seconds();
-  smooth(l);
+  observe(l, CyclePhase::RELOCATION_AFTER_PROLONGATION);
+  smooth(l, false);
 }
 
 template <int Dim, typename Scalar>
@@ -273,21 +294,60 @@ SolveReport Multigrid<Dim, Scalar>::solve(double relative_tolerance, int max_cyc
   if (!std::isfinite(report.residuals.front()))
     throw Error("the initial residual is not finite (NaN or Inf in the loads or boundary values)",
                 {.pointer = "loads"});
+  const SolutionState start = solution_state();  // for the replay of a diverging solve
   const double target = relative_tolerance * report.residuals.front();
   while (report.cycles() < max_cycles && report.residuals.back() > target) {
-    const double norm = vcycle();
-    report.residuals.push_back(norm);
-    if (!std::isfinite(norm)) {
-      std::ostringstream history;
-      for (double r : report.residuals) history << " " << r;
-      throw Error("V-cycle " + std::to_string(report.cycles()) +
-                      " produced a non-finite residual; residual history:" + history.str(),
-                  {.pointer = "solver"});
-    }
+    report.residuals.push_back(vcycle());
+    const std::string reason = divergence_reason(report.residuals);
+    if (!reason.empty())
+      fail_diverged("V-cycle " + std::to_string(report.cycles()), reason, report.residuals, start);
   }
   report.converged = report.residuals.back() <= target;
   report.seconds = timer.seconds();
   return report;
+}
+
+template <int Dim, typename Scalar>
+void Multigrid<Dim, Scalar>::fail_diverged(const std::string& what, const std::string& reason,
+                                           const std::vector<double>& residuals,
+                                           const SolutionState& start) {
+  // Replay plain cycles from the solve's start, checking after every phase, until the first
+  // non-finite values or as many cycles as the solve used.
+  set_solution_state(start);
+  CycleMonitor monitor;
+  m_monitor = &monitor;
+  const int cycles = static_cast<int>(residuals.size()) - 1;
+  for (int c = 1; c <= cycles && !monitor.found_non_finite(); ++c) {
+    monitor.start_cycle(c);
+    vcycle();
+  }
+  m_monitor = nullptr;
+  throw Error(what + " diverged: " + reason + "; residual history: " + format_history(residuals) +
+                  "; diagnosis (cycles replayed from the same start with a residual check after "
+                  "every phase): " +
+                  monitor.diagnosis(levels()),
+              {.pointer = "solver"});
+}
+
+template <int Dim, typename Scalar>
+auto Multigrid<Dim, Scalar>::solution_state() const -> const SolutionState& {
+  if constexpr (std::is_same_v<Scalar, double>) {
+    return m_solution ? m_solution->x : m_levels.front().x;
+  } else {
+    return m_solution->x;
+  }
+}
+
+template <int Dim, typename Scalar>
+void Multigrid<Dim, Scalar>::set_solution_state(const SolutionState& x) {
+  Level<Dim, double>& level = solution_level();
+  for (int f = 0; f <= Dim; ++f)
+    if (x[f].size() != level.x[f].size())
+      throw Error("solution state field " + std::to_string(f) + " has " +
+                      std::to_string(x[f].size()) + " values, the finest level has " +
+                      std::to_string(level.x[f].size()),
+                  {.pointer = "solution state"});
+  level.x = x;
 }
 
 template <int Dim, typename Scalar>

@@ -95,6 +95,12 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
     throw Error("the initial residual is not finite (NaN or Inf in the loads or boundary values)",
                 {.pointer = "loads"});
   const double target = relative_tolerance * report.residuals.front();
+  // Divergence: back to the start (s.b was cleared for the operator), then a checked replay.
+  const auto diverged = [&](const std::string& reason) {
+    s.b = saved_b;
+    fail_diverged("the accelerated solve (FGMRES) at cycle " + std::to_string(report.cycles()),
+                  reason, report.residuals, saved_x);
+  };
   int cycles = 0;
   while (cycles < max_cycles && r.norm() > target) {
     const int m = std::min(restart, max_cycles - cycles);
@@ -127,10 +133,7 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
       g[j + 1] = -sn[j] * g[j];
       g[j] = cs[j] * g[j];
       report.residuals.push_back(std::abs(g[j + 1]));
-      if (!std::isfinite(g[j + 1]))
-        throw Error("the accelerated solve produced a non-finite residual at cycle " +
-                        std::to_string(cycles),
-                    {.pointer = "solver"});
+      if (!std::isfinite(g[j + 1])) diverged("the residual estimate is not finite");
       if (std::abs(g[j + 1]) <= target || beta == 0.0) {  // converged, or exact (breakdown)
         ++j;
         break;
@@ -142,6 +145,8 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
     for (int i = 0; i < j; ++i) x += y[i] * z[i];
     r = true_residual();
     report.residuals.back() = r.norm();
+    const std::string reason = divergence_reason(report.residuals);
+    if (!reason.empty()) diverged(reason);
   }
   report.converged = r.norm() <= target;
   report.seconds = timer.seconds();

@@ -46,51 +46,66 @@ Taps prolongation_taps(int s, bool face_centered, bool pressure) {
   return {{m + 1, 0.75}, {(c % 2 == 0 ? m - 1 : m + 1) + 1, 0.25}};
 }
 
-// Visits the tensor product of per-axis taps: f(stored coordinates, weight).
+// Calls row(s) for every storage row along axis 0 (s[0] = 0), rows split among threads.
 template <int Dim, typename F>
-void for_each_tap(const std::array<Taps, Dim>& taps, F&& f) {
-  IVec<Dim> s;
-  auto recurse = [&](auto&& self, int a, double w) -> void {
-    if (a == Dim) {
-      f(s, w);
-      return;
+void for_each_row(const Lattice<Dim>& lattice, F&& row) {
+  std::ptrdiff_t rows = 1;
+  for (int a = 1; a < Dim; ++a) rows *= lattice.padded(a);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t r = 0; r < rows; ++r) {
+    IVec<Dim> s;
+    s[0] = 0;
+    std::ptrdiff_t q = r;
+    for (int a = 1; a < Dim; ++a) {
+      s[a] = static_cast<int>(q % lattice.padded(a));
+      q /= lattice.padded(a);
     }
-    for (const Tap& t : taps[a]) {
-      s[a] = t.coordinate;
-      self(self, a + 1, w * t.weight);
-    }
-  };
-  recurse(recurse, 0, 1.0);
+    row(s);
+  }
 }
 
-template <int Dim>
-bool in_storage(const Lattice<Dim>& lattice, const IVec<Dim>& s) {
-  for (int a = 0; a < Dim; ++a)
-    if (s[a] < 0 || s[a] > lattice.cells[a] + 1) return false;
-  return true;
+// Adds the tensor product of fine taps in the order of the reference formula (axis 0
+// outermost, weights multiplied in axis order); taps outside the fine storage were dropped.
+template <int Dim, typename Scalar>
+void restrict_taps(const Lattice<Dim>& fine, const Scalar* r, const std::array<Taps, Dim>& taps,
+                   int axis, std::ptrdiff_t offset, double weight, double& sum) {
+  if (axis == Dim) {
+    sum += weight * static_cast<double>(r[offset]);
+    return;
+  }
+  for (const Tap& t : taps[axis])
+    restrict_taps<Dim, Scalar>(fine, r, taps, axis + 1, offset + t.coordinate * fine.stride(axis),
+                               weight * t.weight, sum);
+}
+
+Taps stored_restriction_taps(int s, bool face_centered, int padded) {
+  Taps all = restriction_taps(s, face_centered), kept;
+  for (const Tap& t : all)
+    if (t.coordinate >= 0 && t.coordinate < padded) kept.tap[kept.count++] = t;
+  return kept;
 }
 
 }  // namespace
 
 template <int Dim, typename Scalar>
 void restrict_residual(const Level<Dim, Scalar>& fine, Level<Dim, Scalar>& coarse) {
-  const auto n = static_cast<std::ptrdiff_t>(coarse.size());
   for (int field = 0; field <= Dim; ++field) {
     std::fill(coarse.x[field].begin(), coarse.x[field].end(), Scalar(0));
     std::fill(coarse.b[field].begin(), coarse.b[field].end(), Scalar(0));
-    const std::vector<Scalar>& r = fine.r[field];
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t k = 0; k < n; ++k) {
-      if (coarse.kind[field][k] != VarKind::INTERIOR) continue;
-      const IVec<Dim> s = coarse.lattice.coords(k);
+    const Scalar* r = fine.r[field].data();
+    for_each_row<Dim>(coarse.lattice, [&](const IVec<Dim>& s) {
       std::array<Taps, Dim> taps;
-      for (int a = 0; a < Dim; ++a) taps[a] = restriction_taps(s[a], a == field);
-      double sum = 0.0;
-      for_each_tap<Dim>(taps, [&](const IVec<Dim>& fs, double w) {
-        if (in_storage(fine.lattice, fs)) sum += w * r[fine.lattice.index(fs)];
-      });
-      coarse.b[field][k] = static_cast<Scalar>(sum);
-    }
+      for (int a = 1; a < Dim; ++a)
+        taps[a] = stored_restriction_taps(s[a], a == field, fine.lattice.padded(a));
+      const std::ptrdiff_t base = coarse.lattice.index(s);
+      for (int i = 0; i < coarse.lattice.padded(0); ++i) {
+        if (coarse.kind[field][base + i] != VarKind::INTERIOR) continue;
+        taps[0] = stored_restriction_taps(i, field == 0, fine.lattice.padded(0));
+        double sum = 0.0;
+        restrict_taps<Dim, Scalar>(fine.lattice, r, taps, 0, 0, 1.0, sum);
+        coarse.b[field][base + i] = static_cast<Scalar>(sum);
+      }
+    });
   }
 }
 
@@ -143,32 +158,78 @@ Sample interpolate(const Level<Dim, Scalar>& coarse, int field, const std::array
   return combine(first, t[0].weight, second, t[1].weight, axis != field);
 }
 
+// The interpolation of `interpolate` when every coarse sample it reads is active (interior or
+// traction), which is the case away from boundaries: the same weights in the same order (so the
+// same rounding), without the per-sample bookkeeping. Returns false where a sample is inactive
+// or Dirichlet, and the caller falls back to `interpolate`.
+template <int Dim, typename Scalar>
+bool interpolate_active(const Level<Dim, Scalar>& coarse, int field,
+                        const std::array<Taps, Dim>& taps, std::ptrdiff_t offset, int axis,
+                        double& value) {
+  if (axis < 0) {
+    const VarKind kind = coarse.kind[field][offset];
+    if (kind != VarKind::INTERIOR && kind != VarKind::TRACTION) return false;
+    value = static_cast<double>(coarse.x[field][offset]);
+    return true;
+  }
+  const Taps& t = taps[axis];
+  const std::ptrdiff_t stride = coarse.lattice.stride(axis);
+  double first = 0.0, second = 0.0;
+  if (!interpolate_active<Dim, Scalar>(coarse, field, taps, offset + t[0].coordinate * stride,
+                                       axis - 1, first))
+    return false;
+  if (t.size() == 1) {
+    value = first;
+    return true;
+  }
+  if (!interpolate_active<Dim, Scalar>(coarse, field, taps, offset + t[1].coordinate * stride,
+                                       axis - 1, second))
+    return false;
+  value = t[0].weight * first + t[1].weight * second;
+  return true;
+}
+
+template <int Dim, typename Scalar>
+void prolongate_displacement(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>& fine,
+                             int field) {
+  const VarKind* kind = fine.kind[field].data();
+  Scalar* x = fine.x[field].data();
+  for_each_row<Dim>(fine.lattice, [&](IVec<Dim> s) {
+    std::array<Taps, Dim> taps;
+    for (int a = 1; a < Dim; ++a) taps[a] = prolongation_taps(s[a], a == field, false);
+    const std::ptrdiff_t base = fine.lattice.index(s);
+    for (int i = 0; i < fine.lattice.padded(0); ++i) {
+      if (kind[base + i] != VarKind::INTERIOR) continue;
+      taps[0] = prolongation_taps(i, field == 0, false);
+      double value = 0.0;
+      if (interpolate_active<Dim, Scalar>(coarse, field, taps, 0, Dim - 1, value)) {
+        x[base + i] += static_cast<Scalar>(value);
+        continue;
+      }
+      IVec<Dim> cs;
+      const Sample sample = interpolate<Dim, Scalar>(coarse, field, taps, cs, Dim - 1);
+      if (sample.state != Sample::INACTIVE) x[base + i] += static_cast<Scalar>(sample.value);
+    }
+  });
+}
+
 }  // namespace
 
 template <int Dim, typename Scalar>
 void prolongate_correction(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>& fine) {
-  const auto n = static_cast<std::ptrdiff_t>(fine.size());
-  for (int field = 0; field < Dim; ++field) {
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t k = 0; k < n; ++k) {
-      if (fine.kind[field][k] != VarKind::INTERIOR) continue;
-      const IVec<Dim> s = fine.lattice.coords(k);
-      std::array<Taps, Dim> taps;
-      for (int a = 0; a < Dim; ++a) taps[a] = prolongation_taps(s[a], a == field, false);
-      IVec<Dim> cs;
-      const Sample sample = interpolate<Dim, Scalar>(coarse, field, taps, cs, Dim - 1);
-      if (sample.state != Sample::INACTIVE) fine.x[field][k] += static_cast<Scalar>(sample.value);
-    }
-  }
+  for (int field = 0; field < Dim; ++field) prolongate_displacement(coarse, fine, field);
   // Pressures: piecewise constant injection from interior coarse cells.
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t k = 0; k < n; ++k) {
-    if (fine.kind[Dim][k] != VarKind::INTERIOR) continue;
-    IVec<Dim> cs = fine.lattice.coords(k);
-    for (int a = 0; a < Dim; ++a) cs[a] = (cs[a] - 1) / 2 + 1;
-    const std::ptrdiff_t ck = coarse.lattice.index(cs);
-    if (coarse.kind[Dim][ck] == VarKind::INTERIOR) fine.x[Dim][k] += coarse.x[Dim][ck];
-  }
+  for_each_row<Dim>(fine.lattice, [&](IVec<Dim> s) {
+    IVec<Dim> cs;
+    for (int a = 1; a < Dim; ++a) cs[a] = (s[a] - 1) / 2 + 1;
+    const std::ptrdiff_t base = fine.lattice.index(s);
+    for (int i = 1; i <= fine.lattice.cells[0]; ++i) {
+      if (fine.kind[Dim][base + i] != VarKind::INTERIOR) continue;
+      cs[0] = (i - 1) / 2 + 1;
+      const std::ptrdiff_t ck = coarse.lattice.index(cs);
+      if (coarse.kind[Dim][ck] == VarKind::INTERIOR) fine.x[Dim][base + i] += coarse.x[Dim][ck];
+    }
+  });
 }
 
 #define MGELASTIC_INSTANTIATE(D, S)                                        \

@@ -85,8 +85,8 @@ Scene parse_scene(const nlohmann::json& document, const std::string& file,
   s.time = {t["dt"],         t["frames"],  t["substeps"],    t["quasistatic"],
             t["integrator"], t["damping"], t["mass_damping"]};
   const nlohmann::json& tet = d["tet"];
-  s.tet = {tet["rotation"], tet["resolution"], tet["linear_solver"], tet["tolerance"],
-           tet["max_iterations"]};
+  s.tet = {tet["rotation"],       tet["resolution"], tet["linear_solver"], tet["tolerance"],
+           tet["max_iterations"], tet["vcycles"],    tet["smoother"]};
   s.surface_interpolation = d["output"]["surface"]["interpolation"];
   s.surface_spacing = d["output"]["surface"]["spacing"];
   s.tolerance = d["solver"]["tolerance"];
@@ -94,8 +94,10 @@ Scene parse_scene(const nlohmann::json& document, const std::string& file,
   s.precision = d["solver"]["precision"];
   s.cycle = d["solver"]["cycle"];
   s.boundary_sweeps = d["solver"]["boundary_sweeps"];
+  s.band_layers = d["solver"]["band_layers"];
   s.accelerate = d["solver"]["accelerate"];
   s.output_dir = d["output"]["dir"];
+  s.checkpoint_every = d["output"]["checkpoint_every"];
   for (const auto& f : d["output"]["formats"]) s.formats.push_back(f);
   return s;
 }
@@ -113,6 +115,9 @@ Scene load_scene(const std::filesystem::path& path) {
   } catch (const nlohmann::json::parse_error& e) {
     throw Error(std::string("invalid JSON: ") + e.what(),
                 ErrorContext{.file = file, .line = line_of(text, e.byte)});
+  } catch (const nlohmann::json::exception& e) {
+    // Not only syntax: a number beyond double's range throws out_of_range (found by fuzzing).
+    throw Error(std::string("invalid JSON: ") + e.what(), ErrorContext{.file = file});
   }
   return parse_scene(document, file, path.parent_path());
 }

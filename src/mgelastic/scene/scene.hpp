@@ -52,6 +52,8 @@ struct Scene {
     std::string linear_solver = "pcg";
     double tolerance = 1e-6;
     int max_iterations = 2000;
+    int vcycles = 0;  // multigrid: V-cycles per step, 0 = to the tolerance
+    std::string smoother = "gauss_seidel";
   } tet;
   std::string surface_interpolation = "tricubic";
   double surface_spacing = 0.5;  // marching-cubes spacing / cell size
@@ -59,9 +61,11 @@ struct Scene {
   int max_vcycles = 50;
   std::string precision = "float", cycle = "V";
   int boundary_sweeps = 0;
+  int band_layers = 1;
   bool accelerate = true;
   std::string output_dir = "out";
   std::vector<std::string> formats;
+  int checkpoint_every = 10;  // frames; 0 = only at the end, on interruption and on divergence
 };
 
 // Reads, validates and types a scene file; errors name the file and line (JSON syntax) or the

@@ -105,8 +105,12 @@ tet::CorotatedSolverSettings solver_settings(const Scene& scene) {
   s.rayleigh_alpha = scene.time.mass_damping;
   s.rayleigh_beta = scene.time.damping;
   s.gravity = scene.gravity;
-  s.linear_solver =
-      scene.tet.linear_solver == "cholesky" ? tet::LinearSolver::CHOLESKY : tet::LinearSolver::PCG;
+  s.linear_solver = tet::LinearSolver::PCG;
+  if (scene.tet.linear_solver == "cholesky") s.linear_solver = tet::LinearSolver::CHOLESKY;
+  if (scene.tet.linear_solver == "multigrid") s.linear_solver = tet::LinearSolver::MULTIGRID;
+  if (scene.tet.linear_solver == "mg_pcg") s.linear_solver = tet::LinearSolver::MG_PCG;
+  s.vcycles = scene.tet.vcycles;
+  s.multigrid.symmetric_sweeps = scene.tet.smoother == "symmetric_gauss_seidel";
   s.pcg.tolerance = scene.tet.tolerance;
   s.pcg.max_iterations = scene.tet.max_iterations;
   return s;

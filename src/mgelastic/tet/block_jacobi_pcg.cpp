@@ -3,7 +3,9 @@
 
 #include <Eigen/LU>
 #include <cmath>
+#include <cstdio>
 #include <string>
+#include <vector>
 
 #include "mgelastic/core/error.hpp"
 
@@ -97,8 +99,27 @@ Eigen::SparseMatrix<double> StepSystem::to_sparse() const {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& reason, int iteration) {
-  throw Error(reason + " at iteration " + std::to_string(iteration),
+// The relative residuals of the iterations so far: all of up to 12, else the first 4 and the
+// last 8 (how the iteration went before it failed).
+std::string history_text(const std::vector<double>& history) {
+  std::string text;
+  char number[32];
+  for (std::size_t i = 0; i < history.size(); ++i) {
+    if (history.size() > 12 && i == 4) {
+      text += " ...";
+      i = history.size() - 8;
+    }
+    std::snprintf(number, sizeof number, "%s%.3e", text.empty() ? "" : " ", history[i]);
+    text += number;
+  }
+  return text;
+}
+
+[[noreturn]] void fail(const std::string& reason, int iteration,
+                       const std::vector<double>& history = {}) {
+  throw Error(reason + " at iteration " + std::to_string(iteration) +
+                  (history.empty() ? std::string()
+                                   : "; relative residual history: " + history_text(history)),
               ErrorContext{std::string(), -1, "PCG"});
 }
 
@@ -121,15 +142,18 @@ PcgResult solve_pcg(const StepSystem& system, const Eigen::VectorXd& b, Eigen::V
   system.precondition(r, z);
   p = z;
   double rz = r.dot(z);
+  std::vector<double> history;  // for the message of a failure
   for (; result.iterations < settings.max_iterations; ++result.iterations) {
     result.relative_residual = r.norm() / b_norm;
+    history.push_back(result.relative_residual);
     if (!std::isfinite(result.relative_residual))
-      fail("non-finite residual (NaN in the system?)", result.iterations);
-    if (result.relative_residual > 1e8) fail("residual diverged", result.iterations);
+      fail("non-finite residual (NaN in the system?)", result.iterations, history);
+    if (result.relative_residual > 1e8) fail("residual diverged", result.iterations, history);
     if (result.relative_residual <= settings.tolerance) break;
     system.apply(p, ap);
     const double curvature = p.dot(ap);
-    if (!(curvature > 0.0)) fail("non-positive curvature p.Ap (matrix not SPD)", result.iterations);
+    if (!(curvature > 0.0))
+      fail("non-positive curvature p.Ap (matrix not SPD)", result.iterations, history);
     const double alpha = rz / curvature;
     x += alpha * p;
     r -= alpha * ap;

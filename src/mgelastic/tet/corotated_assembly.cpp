@@ -43,20 +43,35 @@ CorotatedAssembler::CorotatedAssembler(const TetBody& body)
       }
     }
   build_csr(block_of_source, m_stiffness.block_count(), m_source_offsets, m_sources);
+  m_gradients.resize(body.element_count());
+  m_lame_volume.resize(body.element_count());
+  m_rotated.resize(body.element_count());
+  for (int e = 0; e < body.element_count(); ++e) {
+    m_gradients[e] = shape_gradients(body.rest_edge_inverse(e));
+    m_lame_volume[e] = body.volume(e) * lame_parameters(body.materials()[e]);
+  }
   build_csr(vertex_of_corner, body.vertex_count(), m_corner_offsets, m_corners);
 }
 
 void CorotatedAssembler::assemble(const RotationField& rotations) {
+  const int elements = m_body->element_count();
+#pragma omp parallel for schedule(static) if (elements >= kMinParallelElements)
+  for (int e = 0; e < elements; ++e)
+    m_rotated[e].noalias() = rotations.rotation(e) * m_gradients[e];
   const int count = m_stiffness.block_count();
 #pragma omp parallel for schedule(static) if (count >= kMinParallelItems)
   for (int k = 0; k < count; ++k) {
     Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+    double shift = 0.0;
     for (int s = m_source_offsets[k]; s < m_source_offsets[k + 1]; ++s) {
       const int e = m_sources[s] / 16, local = m_sources[s] % 16;
-      const Eigen::Matrix3d& q = rotations.rotation(e);
-      sum.noalias() +=
-          q * m_body->stiffness(e).block<3, 3>(3 * (local / 4), 3 * (local % 4)) * q.transpose();
+      const int a = local / 4, b = local % 4;
+      const Eigen::Vector3d ha = m_rotated[e].col(a), hb = m_rotated[e].col(b);
+      const Eigen::Vector2d& lame = m_lame_volume[e];
+      sum.noalias() += (lame[0] * ha) * hb.transpose() + (lame[1] * hb) * ha.transpose();
+      shift += lame[1] * m_gradients[e].col(a).dot(m_gradients[e].col(b));
     }
+    sum.diagonal().array() += shift;
     m_stiffness.block(k) = sum;
   }
 }
@@ -83,14 +98,19 @@ Eigen::VectorXd CorotatedAssembler::elastic_forces(const RotationField& rotation
 #pragma omp parallel for schedule(static) if (count >= kMinParallelElements)
   for (int e = 0; e < count; ++e) {
     const Eigen::Matrix3d& q = rotations.rotation(e);
-    // Unrotate the deformed element into the rest frame, apply K, rotate the forces back.
-    Vector12d strain_displacement;
+    // Unrotate the deformed element into the rest frame, apply K (as V sigma(H) g_a), rotate the
+    // forces back.
+    Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
     for (int a = 0; a < 4; ++a)
-      strain_displacement.segment<3>(3 * a) =
-          q.transpose() * x.segment<3>(3 * tets(e, a)) - rest.segment<3>(3 * tets(e, a));
-    const Vector12d local = m_body->stiffness(e) * strain_displacement;
+      h.noalias() +=
+          (q.transpose() * x.segment<3>(3 * tets(e, a)) - rest.segment<3>(3 * tets(e, a))) *
+          m_gradients[e].col(a).transpose();
+    Eigen::Matrix3d stress = m_lame_volume[e][1] * (h + h.transpose());
+    stress.diagonal().array() += m_lame_volume[e][0] * h.trace();
+    const Eigen::Matrix3d rotated_stress = q * stress;
     for (int a = 0; a < 4; ++a)
-      element_forces.segment<3>(12 * e + 3 * a) = -(q * local.segment<3>(3 * a));
+      element_forces.segment<3>(12 * e + 3 * a).noalias() =
+          -(rotated_stress * m_gradients[e].col(a));
   }
   const int n = m_body->vertex_count();
   Eigen::VectorXd forces(3 * static_cast<Eigen::Index>(n));

@@ -29,6 +29,9 @@ void check_settings(const CorotatedSolverSettings& s) {
   if (!s.gravity.allFinite()) fail("must be finite", "gravity");
   if (!(s.pcg.tolerance > 0.0) || s.pcg.max_iterations < 1)
     fail("tolerance must be positive, max_iterations >= 1", "pcg");
+  if (s.vcycles < 0) fail("must be >= 0", "vcycles");
+  if (s.multigrid.pre_smoothing < 0 || s.multigrid.post_smoothing < 0)
+    fail("smoothing sweeps must be >= 0", "multigrid");
   if (s.newton.max_iterations < 1 || !(s.newton.max_step > 0.0))
     fail("max_iterations >= 1 and max_step > 0 required", "newton");
 }
@@ -64,6 +67,7 @@ void CorotatedSolver::set_dirichlet(std::vector<int> vertices, DirichletMotion m
   }
   m_dirichlet = std::move(vertices);
   m_motion = std::move(motion);
+  m_multigrid.reset();  // the hierarchy's Dirichlet levels follow the constrained set
 }
 
 Eigen::VectorXd CorotatedSolver::prescribed_positions(double time) const {
@@ -111,6 +115,23 @@ void CorotatedSolver::solve(double mass_scale, double stiffness_scale, const Eig
     if (m_constrained[v]) unknown.segment<3>(3 * v) = known.segment<3>(3 * v);
   if (m_settings.linear_solver == LinearSolver::PCG) {
     stats.solve = solve_pcg(system, b, unknown, m_settings.pcg);
+  } else if (m_settings.linear_solver == LinearSolver::MULTIGRID ||
+             m_settings.linear_solver == LinearSolver::MG_PCG) {
+    Timer update;
+    if (!m_multigrid) {
+      geometry::TetMesh mesh;
+      mesh.vertices = positions_matrix();
+      const Eigen::VectorXd& rest = m_body.rest_positions();
+      for (int v = 0; v < m_body.vertex_count(); ++v)
+        mesh.vertices.row(v) = rest.segment<3>(3 * v).transpose();
+      mesh.tets = m_body.tets();
+      m_multigrid = std::make_unique<TetMultigrid>(mesh, m_constrained, m_assembler.stiffness(),
+                                                   m_settings.multigrid);
+    }
+    m_multigrid->update(m_assembler.stiffness(), m_body.vertex_mass(), mass_scale, stiffness_scale);
+    stats.galerkin_seconds += update.seconds();
+    timer.restart();
+    solve_multigrid(b, unknown, stats);
   } else {
     const Eigen::SparseMatrix<double> a = system.to_sparse();
     if (!m_cholesky->analyzed) m_cholesky->factorization.analyzePattern(a);
@@ -125,6 +146,24 @@ void CorotatedSolver::solve(double mass_scale, double stiffness_scale, const Eig
   }
   if (!unknown.allFinite()) fail("linear solve produced non-finite values", "solve");
   stats.solve_seconds = timer.seconds();
+}
+
+void CorotatedSolver::solve_multigrid(const Eigen::VectorXd& b, Eigen::VectorXd& unknown,
+                                      StepStats& stats) {
+  const PcgSettings& pcg = m_settings.pcg;
+  if (m_settings.linear_solver == LinearSolver::MG_PCG) {
+    stats.solve = m_multigrid->solve_pcg(b, unknown, pcg);
+  } else if (m_settings.vcycles > 0) {
+    for (int c = 0; c < m_settings.vcycles; ++c) m_multigrid->cycle(b, unknown);
+    Eigen::VectorXd r;
+    m_multigrid->residual(b, unknown, r);
+    const double relative = r.norm() / std::max(b.norm(), 1e-300);
+    stats.solve = {m_settings.vcycles, relative, true};  // a fixed count is the contract
+  } else {
+    const MultigridResult result =
+        m_multigrid->solve(b, unknown, pcg.tolerance, pcg.max_iterations);
+    stats.solve = {result.cycles, result.relative_residual, result.converged};
+  }
 }
 
 void CorotatedSolver::step_implicit_euler(StepStats& stats) {
@@ -237,6 +276,7 @@ const StepStats& CorotatedSolver::solve_static(int max_iterations, double tolera
     stats.rotate_seconds += round.rotate_seconds;
     stats.assemble_seconds += round.assemble_seconds;
     stats.solve_seconds += round.solve_seconds;
+    stats.galerkin_seconds += round.galerkin_seconds;
     stats.rotation = round.rotation;
     stats.solve = round.solve;
     pcg_iterations += round.solve.iterations;
@@ -276,6 +316,21 @@ void CorotatedSolver::set_state(const Eigen::VectorXd& positions,
   m_x = positions;
   m_v = velocities;
   m_have_acceleration = false;
+}
+
+CorotatedState CorotatedSolver::state() const {
+  return {m_x, m_v, m_a, m_rotations.quaternions(), m_have_acceleration, m_time, m_steps};
+}
+
+void CorotatedSolver::restore(const CorotatedState& state) {
+  set_state(state.positions, state.velocities);
+  if (state.accelerations.size() != m_a.size() || !state.accelerations.allFinite())
+    fail("accelerations need 3 finite entries per vertex", "state");
+  set_time(state.time);
+  m_rotations.set_quaternions(state.rotations);
+  m_a = state.accelerations;
+  m_have_acceleration = state.have_acceleration;
+  m_steps = state.steps;
 }
 
 double CorotatedSolver::kinetic_energy() const {

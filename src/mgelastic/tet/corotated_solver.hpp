@@ -24,13 +24,20 @@
 #include "mgelastic/tet/corotated_assembly.hpp"
 #include "mgelastic/tet/rotation_field.hpp"
 #include "mgelastic/tet/tet_body.hpp"
+#include "mgelastic/tet/tet_multigrid.hpp"
 
 namespace mgelastic::tet {
 
 enum class Integrator { IMPLICIT_EULER, NEWMARK };
 enum class LinearSolver {
-  PCG,      // block-Jacobi preconditioned CG on the BRC matrix
-  CHOLESKY  // sparse Cholesky (CHOLMOD), for small static problems and cross-checks
+  PCG,       // block-Jacobi preconditioned CG on the BRC matrix
+  CHOLESKY,  // sparse Cholesky (CHOLMOD), for small static problems and cross-checks
+  // Geometric multigrid (tet_multigrid.hpp, paper Sec. 4.3): the hierarchy is built on the first
+  // solve (and again after set_dirichlet); every solve copies the step matrix into level 0 and
+  // rebuilds the Galerkin coarse operators (stream product) before solving.
+  MULTIGRID,  // V-cycles from the previous step's unknown: `vcycles` of them, or (vcycles = 0)
+              // until pcg.tolerance, at most pcg.max_iterations cycles
+  MG_PCG      // CG preconditioned by one V-cycle, to pcg.tolerance / pcg.max_iterations
 };
 
 struct CorotatedSolverSettings {
@@ -43,6 +50,8 @@ struct CorotatedSolverSettings {
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  // m/s^2
   LinearSolver linear_solver = LinearSolver::PCG;
   PcgSettings pcg;
+  TetMultigridSettings multigrid;  // MULTIGRID and MG_PCG
+  int vcycles = 0;                 // MULTIGRID: fixed V-cycles per step, 0 = to pcg.tolerance
 };
 
 // Prescribed position of Dirichlet vertex `vertex` (rest position `rest`) at time `time`.
@@ -53,11 +62,26 @@ struct StepStats {
   double rotate_seconds = 0.0;
   double assemble_seconds = 0.0;
   double solve_seconds = 0.0;
+  // MULTIGRID / MG_PCG: level-0 copy, Galerkin coarse operators and coarsest factorization
+  // (not included in solve_seconds).
+  double galerkin_seconds = 0.0;
   double total_seconds = 0.0;
   RotationStats rotation;
-  PcgResult solve;                // for CHOLESKY: iterations 0 and the achieved relative residual
+  // CHOLESKY: iterations 0 and the achieved relative residual; MULTIGRID: iterations = V-cycles
+  // (with a fixed `vcycles` count: converged = true, the residual is what the cycles reached).
+  PcgResult solve;
   int static_iterations = 0;      // solve_static only: rotation/solve rounds used
   bool static_converged = false;  // solve_static only: the update fell below the tolerance
+};
+
+// Everything a later step or static solve depends on besides the set-up (checkpoint/resume):
+// positions, velocities and accelerations (3N each), the rotations (Newton warm starts), clock.
+struct CorotatedState {
+  Eigen::VectorXd positions, velocities, accelerations;
+  std::vector<Eigen::Quaterniond> rotations;
+  bool have_acceleration = false;
+  double time = 0.0;
+  long steps = 0;
 };
 
 class CorotatedSolver {
@@ -93,6 +117,9 @@ class CorotatedSolver {
   const Eigen::VectorXd& velocities() const { return m_v; }
   Eigen::MatrixX3d positions_matrix() const;  // N x 3
   void set_state(const Eigen::VectorXd& positions, const Eigen::VectorXd& velocities);
+  CorotatedState state() const;
+  // Continues exactly where state() was taken; throws Error on sizes or non-finite values.
+  void restore(const CorotatedState& state);
   const StepStats& last_stats() const { return m_stats; }
 
   double kinetic_energy() const;
@@ -105,6 +132,9 @@ class CorotatedSolver {
   const RotationField& rotations() const { return m_rotations; }
   const BlockRowMatrix<double>& stiffness() const { return m_assembler.stiffness(); }
   const CorotatedSolverSettings& settings() const { return m_settings; }
+  // The multigrid of MULTIGRID / MG_PCG (nullptr before the first solve or for other solvers).
+  const TetMultigrid* multigrid() const { return m_multigrid.get(); }
+  TetMultigrid* multigrid() { return m_multigrid.get(); }  // benchmarks: naive Galerkin timing
 
  private:
   struct Cholesky;
@@ -113,6 +143,7 @@ class CorotatedSolver {
   // |f_el(x) + f_ext| over the free vertices, with the rotations updated to x.
   double free_residual_norm(const Eigen::VectorXd& x, StepStats& stats);
   Eigen::VectorXd prescribed_positions(double time) const;
+  void solve_multigrid(const Eigen::VectorXd& b, Eigen::VectorXd& unknown, StepStats& stats);
   void solve(double mass_scale, double stiffness_scale, const Eigen::VectorXd& known,
              Eigen::VectorXd& b, Eigen::VectorXd& unknown, StepStats& stats);
   void step_implicit_euler(StepStats& stats);
@@ -132,6 +163,7 @@ class CorotatedSolver {
   long m_steps = 0;
   StepStats m_stats;
   std::unique_ptr<Cholesky> m_cholesky;
+  std::unique_ptr<TetMultigrid> m_multigrid;
 };
 
 }  // namespace mgelastic::tet

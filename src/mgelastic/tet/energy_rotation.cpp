@@ -1,5 +1,6 @@
 #include "mgelastic/tet/energy_rotation.hpp"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <cmath>
@@ -103,6 +104,35 @@ bool newton(NewtonState& s, const Eigen::Matrix4d& n, double t, double scale,
   return lagrangian_gradient(s, n, t).head<4>().norm() <= settings.tolerance * scale;
 }
 
+// Fast path: Newton on the unit sphere in the tangent coordinates of tangent_basis. On |q| = 1,
+// E = T + tr S - 2 q^T N q, so the minimizer maximizes q^T N q; with U = tangent_basis(q),
+// mu = q^T N q, g = U^T N q and H = mu I - U^T N U (minus half the Riemannian Hessian), the
+// Newton step is U H^{-1} g, followed by renormalization. This is the Lagrangian Newton of
+// Eqs. 5-8 restricted to the constraint surface (lambda eliminated): the same iterates' limit
+// with a 3x3 Cholesky instead of a 5x5 pivoted LU, and H > 0 is exactly the second-order test
+// of is_minimizer. Returns false (the full path decides) when H is not positive definite
+// (far from the minimizer, or a degenerate top eigenspace) or the cap is reached.
+bool sphere_newton(const Eigen::Matrix4d& n, double scale, const NewtonSettings& settings,
+                   Eigen::Vector4d& q, int& iterations) {
+  for (iterations = 0;; ++iterations) {
+    const Eigen::Vector4d nq = n * q;
+    const Eigen::Matrix<double, 4, 3> u = tangent_basis(q);
+    const Eigen::Vector3d g = u.transpose() * nq;
+    Eigen::Matrix3d h = -(u.transpose() * n * u);
+    h.diagonal().array() += q.dot(nq);
+    const Eigen::LLT<Eigen::Matrix3d> llt(h);
+    if (llt.info() != Eigen::Success) return false;
+    // |dE/dq| on the sphere is 4 |U^T N q| (the criterion of newton()).
+    if (4.0 * g.norm() <= settings.tolerance * scale) return true;
+    if (iterations >= settings.max_iterations) return false;
+    Eigen::Vector3d step = llt.solve(g);
+    if (!step.allFinite()) return false;
+    const double length = step.norm();
+    if (length > settings.max_step) step *= settings.max_step / length;
+    q = (q + u * step).normalized();
+  }
+}
+
 }  // namespace
 
 Eigen::Matrix4d rotation_energy_matrix(const Eigen::Matrix3d& b) {
@@ -138,6 +168,11 @@ RotationFit minimize_rotation_energy(const Eigen::Matrix3d& moment, double t, Ei
   if (!(scale > 1e-300) || !std::isfinite(scale)) {
     q = to_quaternion(warm);
     fit.fallback = true;
+    return fit;
+  }
+  Eigen::Vector4d fast = warm;
+  if (sphere_newton(n, scale, settings, fast, fit.iterations) && fast.allFinite()) {
+    q = to_quaternion(fast.dot(warm) < 0.0 ? Eigen::Vector4d(-fast) : fast);
     return fit;
   }
   NewtonState s{warm, 2.0 * (warm.dot(n * warm) - t)};

@@ -16,6 +16,11 @@
 // the warm start stationary along q, 2 (q^T N q - T). On the unit sphere stationary points are the
 // eigenvectors of N and the minimizer is the one of the largest eigenvalue.
 //
+// Speed: the iteration runs first on the constraint surface itself (q kept unit, lambda
+// eliminated: a 3x3 Cholesky per step in the sphere's tangent coordinates, whose positive
+// definiteness is the second-order minimizer test); the (q, lambda) Newton below runs only when
+// that fast path fails (indefinite tangent Hessian, iteration cap).
+//
 // Robustness: steps are length-limited and q is renormalized after each, so a non-unit quaternion
 // is never returned; if Newton fails (singular KKT matrix, non-finite values, iteration cap, or a
 // stationary point that is not the minimum, e.g. for inverted or flat elements) the result comes

@@ -1,6 +1,7 @@
 #include "mgelastic/tet/rotation_field.hpp"
 #include "mgelastic/tet/parallel.hpp"
 
+#include <cmath>
 #include <string>
 
 #include "mgelastic/core/error.hpp"
@@ -20,6 +21,20 @@ RotationField::RotationField(const TetBody& body, RotationMethod method, NewtonS
 void RotationField::reset() {
   m_rotations.assign(m_body->element_count(), Eigen::Matrix3d::Identity());
   m_quaternions.assign(m_body->element_count(), Eigen::Quaterniond::Identity());
+}
+
+void RotationField::set_quaternions(const std::vector<Eigen::Quaterniond>& quaternions) {
+  if (quaternions.size() != m_quaternions.size())
+    throw Error("need one rotation per element (" + std::to_string(m_quaternions.size()) +
+                    "), got " + std::to_string(quaternions.size()),
+                ErrorContext{std::string(), -1, "rotations"});
+  for (std::size_t e = 0; e < quaternions.size(); ++e)
+    if (!quaternions[e].coeffs().allFinite() || std::abs(quaternions[e].norm() - 1.0) > 1e-6)
+      throw Error("not a unit quaternion",
+                  ErrorContext{std::string(), -1, "rotation of element " + std::to_string(e)});
+  m_quaternions = quaternions;
+  for (std::size_t e = 0; e < quaternions.size(); ++e)
+    m_rotations[e] = m_quaternions[e].toRotationMatrix();
 }
 
 RotationStats RotationField::update(const Eigen::VectorXd& positions) {

@@ -34,6 +34,9 @@ class RotationField {
   RotationStats update(const Eigen::VectorXd& positions);
   // Back to identity rotations (and cold Newton starts).
   void reset();
+  // Restores rotations saved from quaternions() (a checkpoint; the Newton warm starts of
+  // ENERGY_MINIMIZATION); throws Error unless there is one unit quaternion per element.
+  void set_quaternions(const std::vector<Eigen::Quaterniond>& quaternions);
 
   RotationMethod method() const { return m_method; }
   int size() const { return static_cast<int>(m_rotations.size()); }

@@ -4,96 +4,154 @@
 #include <cmath>
 #include <random>
 
+#include "mgelastic/core/error.hpp"
 #include "mgelastic/core/timer.hpp"
 #include "mgelastic/geometry/tet_mesh_grid.hpp"
+#include "mgelastic/geometry/tet_mesh_readers.hpp"
+#include "mgelastic/tet/block_jacobi_pcg.hpp"
 #include "mgelastic/tet/corotated_solver.hpp"
-#include "mgelastic/tet/tet_multigrid.hpp"
+#include "mgelastic/tet/mesh_refinement.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>
 #endif
 
 namespace mgelastic::tet {
+namespace {
 
-TetStepBenchmark run_tet_step_benchmark(int cells_across, int steps, double tolerance,
-                                        int max_coarsest_vertices) {
-  TetStepBenchmark r;
-  r.cells_across = cells_across;
-#ifdef _OPENMP
-  r.threads = omp_get_max_threads();
-#endif
-  const double h = 0.25 / cells_across, dt = 1.0 / 60.0;
-  const geometry::TetMesh mesh =
-      geometry::regular_tet_grid(
-          [](const Eigen::Vector3d&) { return true; },
-          Eigen::AlignedBox3d(Eigen::Vector3d::Zero(), Eigen::Vector3d(1.0, 0.25, 0.25)), h)
-          .mesh;
-  r.tets = mesh.tet_count();
-  r.vertices = mesh.vertex_count();
-  CorotatedSolverSettings settings;
-  settings.time_step = dt;
-  settings.gravity = Eigen::Vector3d(0, -9.81, 0);
-  settings.pcg.tolerance = tolerance;
-  CorotatedSolver solver(mesh, ElementMaterials::uniform(mesh.tet_count(), {1e6, 0.3, 1000.0}),
-                         settings);
+constexpr double kStep = 1.0 / 60.0;
+
+struct Problem {
+  geometry::TetMesh mesh;
+  std::string name;
+  double youngs_modulus = 1e6;
   std::vector<int> dirichlet;
-  std::vector<char> fixed(mesh.vertex_count(), 0);
-  for (int v = 0; v < mesh.vertex_count(); ++v)
-    if (mesh.vertices(v, 0) < 1e-9 || mesh.vertices(v, 0) > 1.0 - 1e-9) {
-      dirichlet.push_back(v);
-      fixed[v] = 1;
-    }
-  solver.set_dirichlet(dirichlet, [](int, const Eigen::Vector3d& rest, double time) {
+  DirichletMotion motion;
+};
+
+Problem bar(int cells) {
+  Problem p;
+  p.mesh = geometry::regular_tet_grid(
+               [](const Eigen::Vector3d&) { return true; },
+               Eigen::AlignedBox3d(Eigen::Vector3d::Zero(), Eigen::Vector3d(1.0, 0.25, 0.25)),
+               0.25 / cells)
+               .mesh;
+  p.name = "bar " + std::to_string(cells);
+  for (int v = 0; v < p.mesh.vertex_count(); ++v)
+    if (p.mesh.vertices(v, 0) < 1e-9 || p.mesh.vertices(v, 0) > 1.0 - 1e-9)
+      p.dirichlet.push_back(v);
+  p.motion = [](int, const Eigen::Vector3d& rest, double time) {
     if (rest[0] < 0.5) return Eigen::Vector3d(rest);
     const Eigen::Vector3d axis(0.0, 0.125, 0.125);
     const Eigen::Vector3d d(rest[0], rest[1] - axis[1], rest[2] - axis[2]);
     return Eigen::Vector3d(Eigen::AngleAxisd(6.0 * time, Eigen::Vector3d::UnitX()) * d + axis);
-  });
-  Timer setup;
-  TetMultigridSettings mg_settings;
-  mg_settings.hierarchy.max_coarsest_vertices = max_coarsest_vertices;
-  TetMultigrid mg(mesh, fixed, solver.stiffness(), mg_settings);
-  r.setup_seconds = setup.seconds();
+  };
+  return p;
+}
+
+Problem mesh_file(const std::string& file, int refinements) {
+  Problem p;
+  p.mesh = geometry::read_tet_mesh(file);
+  for (int r = 0; r < refinements; ++r) p.mesh = refine_uniform(p.mesh);
+  p.name = file + (refinements > 0 ? " x" + std::to_string(1 << (3 * refinements)) : "");
+  const double low = p.mesh.vertices.col(1).minCoeff();
+  const double height = p.mesh.vertices.col(1).maxCoeff() - low;
+  p.youngs_modulus = 1e4 * height;
+  for (int v = 0; v < p.mesh.vertex_count(); ++v)
+    if (p.mesh.vertices(v, 1) < low + 0.1 * height) p.dirichlet.push_back(v);
+  return p;
+}
+
+Eigen::VectorXd random_rhs(const std::vector<char>& fixed) {
+  std::mt19937 rng(1);
+  std::normal_distribution<double> normal;
+  Eigen::VectorXd b(3 * static_cast<Eigen::Index>(fixed.size()));
+  for (Eigen::Index i = 0; i < b.size(); ++i) b[i] = fixed[i / 3] != 0 ? 0.0 : normal(rng);
+  return b;
+}
+
+}  // namespace
+
+TetStepBenchmark run_tet_step_benchmark(const TetStepBenchmarkOptions& options) {
+  if (options.steps < 1 || options.vcycles < 1 || !(options.tolerance > 0.0))
+    throw Error("steps and vcycles >= 1 and a positive tolerance required",
+                ErrorContext{std::string(), -1, "tet-step benchmark"});
+  const Problem problem = options.mesh_file.empty()
+                              ? bar(options.cells_across)
+                              : mesh_file(options.mesh_file, options.refinements);
+  TetStepBenchmark r;
+  r.mesh = problem.name;
+#ifdef _OPENMP
+  r.threads = omp_get_max_threads();
+#endif
+  r.tets = problem.mesh.tet_count();
+  r.vertices = problem.mesh.vertex_count();
+  CorotatedSolverSettings settings;
+  settings.time_step = kStep;
+  settings.gravity = Eigen::Vector3d(0, -9.81, 0);
+  settings.rotation_method = options.rotation;
+  settings.linear_solver = LinearSolver::MULTIGRID;
+  settings.vcycles = options.vcycles;
+  settings.multigrid = options.multigrid;
+  settings.pcg.tolerance = options.tolerance;
+  CorotatedSolver solver(
+      problem.mesh,
+      ElementMaterials::uniform(problem.mesh.tet_count(), {problem.youngs_modulus, 0.3, 1000.0}),
+      settings);
+  solver.set_dirichlet(problem.dirichlet, problem.motion);
+  std::vector<char> fixed(problem.mesh.vertex_count(), 0);
+  for (const int v : problem.dirichlet) fixed[v] = 1;
+  const Eigen::VectorXd b = random_rhs(fixed);
+  PcgSettings pcg;
+  pcg.tolerance = options.tolerance;
+  pcg.max_iterations = 20000;
+  const double n = options.steps;
+  for (int s = -1; s < options.steps; ++s) {  // step -1 warms up (and builds the hierarchy)
+    Timer timer;
+    const StepStats stats = solver.step();
+    const double step_seconds = timer.seconds();
+    TetMultigrid& mg = *solver.multigrid();
+    if (s < 0) {
+      r.setup_seconds = stats.galerkin_seconds - mg.update_times().galerkin_seconds -
+                        mg.update_times().factor_seconds - mg.update_times().fine_seconds;
+      continue;
+    }
+    const MultigridUpdateTimes stream = mg.update_times();
+    mg.update_coarse(GalerkinMethod::NAIVE);
+    const double naive = mg.update_times().galerkin_seconds;
+    mg.update_coarse(GalerkinMethod::STREAM);
+    const StepSystem system(solver.stiffness(), solver.body().vertex_mass(), 1.0, kStep * kStep,
+                            fixed);
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size());
+    timer.restart();
+    const PcgResult baseline = solve_pcg(system, b, x, pcg);
+    r.baseline_pcg_seconds += timer.seconds() / n;
+    r.baseline_pcg_iterations += baseline.iterations / n;
+    x.setZero();
+    timer.restart();
+    const PcgResult preconditioned = mg.solve_pcg(b, x, pcg);
+    r.mg_pcg_seconds += timer.seconds() / n;
+    r.mg_pcg_iterations += preconditioned.iterations / n;
+    x.setZero();
+    timer.restart();
+    const MultigridResult cycles = mg.solve(b, x, options.tolerance, 500);
+    r.vcycles_to_tolerance_seconds += timer.seconds() / n;
+    r.vcycles_to_tolerance += cycles.cycles / n;
+    r.rotate_seconds += stats.rotate_seconds / n;
+    r.assemble_seconds += stats.assemble_seconds / n;
+    r.fine_operator_seconds += stream.fine_seconds / n;
+    r.galerkin_stream_seconds += stream.galerkin_seconds / n;
+    r.factor_seconds += stream.factor_seconds / n;
+    r.galerkin_naive_seconds += naive / n;
+    r.solve_seconds += stats.solve_seconds / n;
+    r.step_seconds += step_seconds / n;
+    r.step_residual += stats.solve.relative_residual / n;
+  }
+  const TetMultigrid& mg = *solver.multigrid();
   r.levels = mg.level_count();
   for (int l = 0; l < mg.level_count(); ++l)
     r.level_vertices.push_back(mg.hierarchy().vertex_count(l));
   r.stream_bytes = mg.stream_memory_bytes();
-
-  std::mt19937 rng(1);
-  std::normal_distribution<double> normal;
-  Eigen::VectorXd b(3 * mesh.vertex_count());
-  for (int i = 0; i < b.size(); ++i) b[i] = fixed[i / 3] != 0 ? 0.0 : normal(rng);
-  PcgSettings pcg;
-  pcg.tolerance = tolerance;
-  for (int s = -1; s < steps; ++s) {  // step -1 warms up
-    const StepStats& stats = solver.step();
-    mg.update(solver.stiffness(), solver.body().vertex_mass(), 1.0, dt * dt);
-    const MultigridUpdateTimes stream_times = mg.update_times();
-    Timer timer;
-    mg.update_coarse(GalerkinMethod::NAIVE);
-    const double naive = mg.update_times().galerkin_seconds;
-    timer.restart();
-    Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size());
-    mg.cycle(b, x);
-    const double vcycle = timer.seconds();
-    x.setZero();
-    timer.restart();
-    const PcgResult result = mg.solve_pcg(b, x, pcg);
-    const double mg_pcg = timer.seconds();
-    if (s < 0) continue;
-    r.rotate_seconds += stats.rotate_seconds / steps;
-    r.assemble_seconds += stats.assemble_seconds / steps;
-    r.baseline_pcg_seconds += stats.solve_seconds / steps;
-    r.baseline_pcg_iterations += static_cast<double>(stats.solve.iterations) / steps;
-    r.fine_operator_seconds += stream_times.fine_seconds / steps;
-    r.galerkin_stream_seconds += stream_times.galerkin_seconds / steps;
-    r.factor_seconds += stream_times.factor_seconds / steps;
-    r.galerkin_naive_seconds += naive / steps;
-    r.vcycle_seconds += vcycle / steps;
-    r.mg_pcg_seconds += mg_pcg / steps;
-    r.mg_pcg_iterations += static_cast<double>(result.iterations) / steps;
-  }
-  // Rate on the last step's matrix.
   Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size()), res;
   double r3 = 1.0;
   for (int c = 1; c <= 10; ++c) {
@@ -102,10 +160,10 @@ TetStepBenchmark run_tet_step_benchmark(int cells_across, int steps, double tole
     if (c == 3) r3 = res.norm();
   }
   r.vcycle_rate = std::pow(res.norm() / r3, 1.0 / 7.0);
-  const double common = r.rotate_seconds + r.assemble_seconds;
-  r.mg_steps_per_second = 1.0 / (common + r.fine_operator_seconds + r.galerkin_stream_seconds +
-                                 r.factor_seconds + r.mg_pcg_seconds);
-  r.baseline_steps_per_second = 1.0 / (common + r.baseline_pcg_seconds);
+  r.steps_per_second = 1.0 / r.step_seconds;
+  const double multigrid_part =
+      r.fine_operator_seconds + r.galerkin_stream_seconds + r.factor_seconds + r.solve_seconds;
+  r.baseline_steps_per_second = 1.0 / (r.step_seconds - multigrid_part + r.baseline_pcg_seconds);
   return r;
 }
 

@@ -1,38 +1,61 @@
 #pragma once
-// The Table 1/2 benchmark of Georgii & Westermann 2008 on generated meshes: per implicit Euler
-// step of a corotated bar, seconds for rotate, assemble, the Galerkin update of the multigrid
-// hierarchy (naive Eq. 9 and stream Algorithm 1), the solve (one V-cycle, MG-PCG, and the existing
-// block-Jacobi PCG as baseline), and steps per second.
+// The Table 1/2 benchmark of Georgii & Westermann 2008: per implicit Euler step of a corotated
+// body, seconds for rotate, assemble, the Galerkin update of the multigrid hierarchy (naive Eq. 9
+// and stream Algorithm 1), the solve (the paper's fixed V-cycles), the whole step, steps per
+// second; with the project's block-Jacobi PCG and MG-PCG as baselines on the same step matrix.
 //
-// Problem: bar 1 x 0.25 x 0.25 m, `cells_across` cubes across (24 n^3 Kuhn tets), E = 1e6 Pa,
-// nu = 0.3, rho = 1000, h = 1/60 s, gravity, left end fixed, right end turned about the bar axis at
-// 6 rad/s, energy-minimization rotations. Each step is taken by CorotatedSolver (rotations,
-// assembly, baseline PCG to `tolerance`); the multigrid then updates from that step's K~ and
-// solves the step matrix with a seeded random right-hand side (zero on Dirichlet vertices) to the
-// same tolerance. Times are means over `steps` steps after one warm-up step.
+// Problems:
+//  * bar (mesh_file empty): 1 x 0.25 x 0.25 m, `cells_across` cubes across (24 n^3 Kuhn tets),
+//    E = 1e6 Pa, left end fixed, right end turned about the bar axis at 6 rad/s;
+//  * a tetrahedral mesh file (read_tet_mesh), refined `refinements` times (refine_uniform), E =
+//    1e4 Pa x its height, the lowest 10 % of its height fixed (it sags under gravity).
+// Both: nu = 0.3, rho = 1000, h = 1/60 s, gravity. Every step is CorotatedSolver::step() with
+// LinearSolver::MULTIGRID and `vcycles` V-cycles from the previous velocity (the real step: its
+// right-hand side, warm start, Galerkin update with the stream product). After each step the
+// Galerkin update is repeated with the naive product (timed, then restored by the stream), and
+// block-Jacobi PCG, MG-PCG and V-cycles solve the step matrix with a seeded random right-hand
+// side (zero on Dirichlet vertices) from zero to `tolerance`. Times are means over `steps` steps
+// after one warm-up step.
 #include <cstddef>
+#include <string>
 #include <vector>
+
+#include "mgelastic/tet/rotation_field.hpp"
+#include "mgelastic/tet/tet_multigrid.hpp"
 
 namespace mgelastic::tet {
 
+struct TetStepBenchmarkOptions {
+  int cells_across = 8;
+  std::string mesh_file;  // non-empty: this mesh instead of the bar
+  int refinements = 0;
+  RotationMethod rotation = RotationMethod::ENERGY_MINIMIZATION;
+  int steps = 5;
+  int vcycles = 1;
+  double tolerance = 1e-6;
+  TetMultigridSettings multigrid;
+};
+
 struct TetStepBenchmark {
-  int cells_across = 0, tets = 0, vertices = 0, levels = 0, threads = 1;
+  std::string mesh;  // "bar n" or the file name (+ refinements)
+  int tets = 0, vertices = 0, levels = 0, threads = 1;
   std::vector<int> level_vertices;
-  double setup_seconds = 0.0;  // hierarchy, coarse patterns, streams (once)
+  double setup_seconds = 0.0;  // hierarchy, coarse patterns, streams (first solve)
   double rotate_seconds = 0.0, assemble_seconds = 0.0;
   double fine_operator_seconds = 0.0;  // A_0 = M + h^2 K~ copied into the multigrid
   double galerkin_naive_seconds = 0.0, galerkin_stream_seconds = 0.0;
-  double factor_seconds = 0.0;  // coarsest CHOLMOD factorization and smoother diagonals
-  double vcycle_seconds = 0.0, mg_pcg_seconds = 0.0, baseline_pcg_seconds = 0.0;
-  double mg_pcg_iterations = 0.0, baseline_pcg_iterations = 0.0;
-  double vcycle_rate = 0.0;  // residual reduction per V-cycle (cycles 4..10)
+  double factor_seconds = 0.0;  // coarsest Cholesky and smoother diagonals
+  double solve_seconds = 0.0;   // the step's V-cycles and residual
+  double step_seconds = 0.0;    // CorotatedSolver::step() wall time (forces and update included)
+  double step_residual = 0.0;   // mean relative residual of the step after its V-cycles
+  double mg_pcg_seconds = 0.0, baseline_pcg_seconds = 0.0, vcycles_to_tolerance_seconds = 0.0;
+  double mg_pcg_iterations = 0.0, baseline_pcg_iterations = 0.0, vcycles_to_tolerance = 0.0;
+  double vcycle_rate = 0.0;  // residual reduction per V-cycle (cycles 4..10, random b)
   std::size_t stream_bytes = 0;
-  // rotate + assemble + fine operator + stream update + factor + MG-PCG; and with the baseline.
-  double mg_steps_per_second = 0.0, baseline_steps_per_second = 0.0;
+  double steps_per_second = 0.0;           // 1 / step_seconds
+  double baseline_steps_per_second = 0.0;  // step with BJ-PCG instead of Galerkin + V-cycles
 };
 
-// `max_coarsest_vertices`: TetHierarchySettings::max_coarsest_vertices.
-TetStepBenchmark run_tet_step_benchmark(int cells_across, int steps, double tolerance,
-                                        int max_coarsest_vertices = 2000);
+TetStepBenchmark run_tet_step_benchmark(const TetStepBenchmarkOptions& options);
 
 }  // namespace mgelastic::tet

@@ -1,6 +1,7 @@
 #include "mgelastic/tet/tet_hierarchy.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -137,6 +138,108 @@ Prolongation locate(const Eigen::MatrixX3d& points, const std::vector<char>& fin
   return p;
 }
 
+// Vertex adjacency of a tetrahedral mesh (each vertex's neighbours, sorted, without itself).
+std::vector<std::vector<int>> mesh_adjacency(const geometry::TetMesh& mesh) {
+  std::vector<std::vector<int>> adjacency(mesh.vertex_count());
+  for (int t = 0; t < mesh.tet_count(); ++t)
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b)
+        if (a != b) adjacency[mesh.tets(t, a)].push_back(mesh.tets(t, b));
+  for (std::vector<int>& row : adjacency) {
+    std::sort(row.begin(), row.end());
+    row.erase(std::unique(row.begin(), row.end()), row.end());
+  }
+  return adjacency;
+}
+
+// Splits every coarse grid vertex into one degree of freedom per connected component of its
+// support (the finer-level vertices giving it a non-zero weight, connected through `adjacency`,
+// the finer level's matrix graph). A coarse cube that straddles two parts of the body separated
+// by a gap (a bunny's ear and its back) would otherwise tie their motions together in the coarse
+// space, which the smoother cannot undo. Rewrites p's coarse indices; returns each DOF's grid
+// vertex. Grid vertices without support keep one (constrained) DOF.
+std::vector<int> split_by_components(Prolongation& p,
+                                     const std::vector<std::vector<int>>& adjacency) {
+  const int grid_vertices = p.coarse_vertex_count;
+  const int n = p.fine_vertex_count();
+  // Support of each grid vertex as (fine vertex, slot) pairs, CSR.
+  std::vector<int> offsets(grid_vertices + 1, 0);
+  for (int v = 0; v < n; ++v)
+    for (int s = 0; s < 4; ++s)
+      if (p.weights[v][s] != 0.0) ++offsets[p.vertices[v][s] + 1];
+  for (int c = 0; c < grid_vertices; ++c) offsets[c + 1] += offsets[c];
+  std::vector<int> support(offsets.back());
+  std::vector<int> fill(offsets.begin(), offsets.end() - 1);
+  for (int v = 0; v < n; ++v)
+    for (int s = 0; s < 4; ++s)
+      if (p.weights[v][s] != 0.0) support[fill[p.vertices[v][s]]++] = 4 * v + s;
+  std::vector<int> slot_of(n, -1), component(n, -1), stamp(n, -1), stack;
+  std::vector<int> grid_vertex_of_dof;
+  std::vector<std::array<int, 4>> renumbered = p.vertices;
+  for (int c = 0; c < grid_vertices; ++c) {
+    if (offsets[c] == offsets[c + 1]) {
+      grid_vertex_of_dof.push_back(c);
+      continue;
+    }
+    for (int k = offsets[c]; k < offsets[c + 1]; ++k) {
+      stamp[support[k] / 4] = c;
+      slot_of[support[k] / 4] = support[k] % 4;
+      component[support[k] / 4] = -1;
+    }
+    for (int k = offsets[c]; k < offsets[c + 1]; ++k) {
+      const int seed = support[k] / 4;
+      if (component[seed] >= 0) continue;
+      const int dof = static_cast<int>(grid_vertex_of_dof.size());
+      grid_vertex_of_dof.push_back(c);
+      component[seed] = dof;
+      stack.assign(1, seed);
+      while (!stack.empty()) {
+        const int v = stack.back();
+        stack.pop_back();
+        renumbered[v][slot_of[v]] = dof;
+        for (const int u : adjacency[v])
+          if (stamp[u] == c && component[u] < 0) {
+            component[u] = dof;
+            stack.push_back(u);
+          }
+      }
+    }
+  }
+  // Zero-weight slots keep a valid index: the first DOF of their grid vertex.
+  std::vector<int> first_dof(grid_vertices, -1);
+  for (int d = static_cast<int>(grid_vertex_of_dof.size()) - 1; d >= 0; --d)
+    first_dof[grid_vertex_of_dof[d]] = d;
+  for (int v = 0; v < n; ++v)
+    for (int s = 0; s < 4; ++s)
+      if (p.weights[v][s] == 0.0) renumbered[v][s] = first_dof[p.vertices[v][s]];
+  p.vertices = std::move(renumbered);
+  p.coarse_vertex_count = static_cast<int>(grid_vertex_of_dof.size());
+  return grid_vertex_of_dof;
+}
+
+// Matrix graph of the coarse level: DOFs a, b are neighbours when fine neighbours (or one fine
+// vertex) i, j have w_ia != 0 and w_jb != 0 (the pattern of P^T A P).
+std::vector<std::vector<int>> coarse_adjacency(const Prolongation& p,
+                                               const std::vector<std::vector<int>>& fine) {
+  std::vector<std::vector<int>> adjacency(p.coarse_vertex_count);
+  const auto link = [&](int i, int j) {
+    for (int s = 0; s < 4; ++s)
+      if (p.weights[i][s] != 0.0)
+        for (int t = 0; t < 4; ++t)
+          if (p.weights[j][t] != 0.0 && p.vertices[i][s] != p.vertices[j][t])
+            adjacency[p.vertices[i][s]].push_back(p.vertices[j][t]);
+  };
+  for (int i = 0; i < p.fine_vertex_count(); ++i) {
+    link(i, i);
+    for (const int j : fine[i]) link(i, j);
+  }
+  for (std::vector<int>& row : adjacency) {
+    std::sort(row.begin(), row.end());
+    row.erase(std::unique(row.begin(), row.end()), row.end());
+  }
+  return adjacency;
+}
+
 }  // namespace
 
 void Prolongation::prolong_add(const Eigen::VectorXd& coarse, Eigen::VectorXd& fine) const {
@@ -192,22 +295,28 @@ TetHierarchy::TetHierarchy(const geometry::TetMesh& fine, const std::vector<char
   Eigen::AlignedBox3d box(fine.vertices.colwise().minCoeff().transpose(),
                           fine.vertices.colwise().maxCoeff().transpose());
   double h = settings.first_cell_factor * mean_edge_length(fine);
-  const Eigen::MatrixX3d* points = &fine.vertices;
+  m_positions.push_back(fine.vertices);
+  std::vector<std::vector<int>> adjacency = mesh_adjacency(fine);
   while (vertex_count(level_count() - 1) > settings.max_coarsest_vertices &&
          level_count() < settings.max_levels) {
     geometry::RegularTetGrid coarse = covering_grid(fine, box, h);
-    if (coarse.mesh.vertex_count() > 0.75 * vertex_count(level_count() - 1)) break;
-    Prolongation p = locate(*points, m_constrained.back(), coarse, cube_grid(box, h));
+    Prolongation p = locate(m_positions.back(), m_constrained.back(), coarse, cube_grid(box, h));
+    const std::vector<int> grid_vertex = split_by_components(p, adjacency);
+    if (p.coarse_vertex_count > 0.75 * vertex_count(level_count() - 1)) break;
     // Coarse vertices with no free fine vertex in their support are constrained.
-    std::vector<char> coarse_constrained(coarse.mesh.vertex_count(), 1);
+    std::vector<char> coarse_constrained(p.coarse_vertex_count, 1);
     for (int v = 0; v < p.fine_vertex_count(); ++v)
       for (int s = 0; s < 4; ++s)
         if (p.weights[v][s] != 0.0) coarse_constrained[p.vertices[v][s]] = 0;
+    Eigen::MatrixX3d positions(p.coarse_vertex_count, 3);
+    for (int d = 0; d < p.coarse_vertex_count; ++d)
+      positions.row(d) = coarse.mesh.vertices.row(grid_vertex[d]);
+    adjacency = coarse_adjacency(p, adjacency);
     m_prolongations.push_back(std::move(p));
     m_constrained.push_back(std::move(coarse_constrained));
     m_coarse_meshes.push_back(std::move(coarse.mesh));
+    m_positions.push_back(std::move(positions));
     m_cell_sizes.push_back(h);
-    points = &m_coarse_meshes.back().vertices;
     h *= 2.0;
   }
 }

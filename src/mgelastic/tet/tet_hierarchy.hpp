@@ -24,6 +24,11 @@
 // vertices giving it a non-zero weight) contains only constrained vertices (or is empty); its
 // Galerkin row and column are then zero and the coarse operator puts the identity there.
 //
+// Split DOFs: a coarse grid vertex whose support (the finer vertices with non-zero weight) falls
+// into several parts not connected through the finer level's matrix graph (a cube straddling a
+// gap between two parts of the body) becomes one DOF per part, at the same position, so the
+// coarse space does not tie separate parts together. Convex bodies have no splits.
+//
 // Levels: coarse levels are added until one has <= `max_coarsest_vertices` vertices (or
 // `max_levels` is reached, or a coarsening no longer shrinks the vertex count by 1/4).
 #include <Eigen/Core>
@@ -51,7 +56,7 @@ struct Prolongation {
 
 struct TetHierarchySettings {
   double first_cell_factor = 2.0;  // level-1 cube size / mean fine edge length
-  int max_coarsest_vertices = 2000;
+  int max_coarsest_vertices = 400;
   int max_levels = 12;  // including the fine level
 };
 
@@ -70,10 +75,14 @@ class TetHierarchy {
   // The regular grid of a coarse level (1 <= level < level_count()).
   const geometry::TetMesh& coarse_mesh(int level) const { return m_coarse_meshes[level - 1]; }
   double cell_size(int level) const { return m_cell_sizes[level - 1]; }
+  // Positions of the level's degrees of freedom (N_l x 3; level 0: the mesh's vertices). A coarse
+  // grid vertex split into several DOFs (one per connected part of its support) repeats.
+  const Eigen::MatrixX3d& positions(int level) const { return m_positions[level]; }
 
  private:
   std::vector<geometry::TetMesh> m_coarse_meshes;
   std::vector<double> m_cell_sizes;
+  std::vector<Eigen::MatrixX3d> m_positions;
   std::vector<Prolongation> m_prolongations;
   std::vector<std::vector<char>> m_constrained;
 };

@@ -12,7 +12,8 @@
 // (R = P^T), recurse from a zero guess, prolong and add, post-smooth (backward block Gauss-Seidel)
 // ; exact solve on the coarsest level. With forward pre- and backward post-smoothing the cycle
 // from a zero guess is a symmetric positive definite operator, so it serves as a preconditioner
-// for CG (solve_pcg).
+// for CG (solve_pcg). Options (TetMultigridSettings): more sweeps; symmetric sweeps (each
+// smoothing step a forward + backward pair, also symmetric); SOR relaxation.
 //
 // Vectors are 3N (vertex-major). The solver keeps per-level work vectors: one instance must not
 // be used by several threads at once.
@@ -35,6 +36,18 @@ struct TetMultigridSettings {
   GalerkinMethod galerkin = GalerkinMethod::STREAM;
   int pre_smoothing = 1;   // forward block Gauss-Seidel sweeps
   int post_smoothing = 1;  // backward block Gauss-Seidel sweeps
+  // Each smoothing step is a forward + backward pair instead of a single sweep (twice the work;
+  // armadillo rate 0.43 -> 0.21 for cycle(), 0.33 in the symmetric form, docs/tet-engine.md).
+  bool symmetric_sweeps = false;
+  // Over-relaxation of the block Gauss-Seidel update (1 = plain Gauss-Seidel, SOR otherwise).
+  double relaxation = 1.0;
+};
+
+// Residual norms of one traced V-cycle per level (cycle_traced): after restriction (entry), after
+// pre-smoothing, after the coarse correction, after post-smoothing. The coarsest level's entry
+// only (it is solved exactly).
+struct LevelResiduals {
+  double entry = 0.0, pre_smoothed = 0.0, corrected = 0.0, post_smoothed = 0.0;
 };
 
 struct MultigridResult {
@@ -73,6 +86,12 @@ class TetMultigrid {
 
   // One V-cycle on A_0 x = b, improving x in place.
   void cycle(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
+  // z <- one V-cycle on A_0 z = r from the given z, in the symmetric form (with symmetric_sweeps:
+  // forward + backward on both sides; cycle() mirrors the post-smoothing instead, a better but
+  // non-symmetric stand-alone cycle). The preconditioner of solve_pcg (from z = 0).
+  void precondition(const Eigen::VectorXd& r, Eigen::VectorXd& z) const;
+  // The same cycle, recording per-level residual norms (diagnostics; costs extra products).
+  std::vector<LevelResiduals> cycle_traced(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
   // V-cycles until |b - A_0 x| <= tolerance |b| or max_cycles.
   MultigridResult solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, double tolerance,
                         int max_cycles) const;
@@ -99,7 +118,8 @@ class TetMultigrid {
   };
   struct Coarsest;
   void smooth(int level, const Eigen::VectorXd& b, Eigen::VectorXd& x, bool forward) const;
-  void cycle_level(int level) const;
+  void cycle_level(int level, std::vector<LevelResiduals>* trace, bool symmetric_cycle) const;
+  void sweeps(int level, int count, bool forward, bool symmetric_cycle) const;
   void finish_coarse_update();
 
   TetMultigridSettings m_settings;
