@@ -492,12 +492,13 @@ std::size_t Level<Dim, Scalar>::bytes() const {
 template <int Dim, typename Scalar>
 Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType> cells,
                                const Material& material, const BoundaryStress<Dim>& sigma,
-                               const std::vector<CellType>* coarse_cells) {
+                               const std::vector<CellType>* coarse_cells, double inertia) {
   Level<Dim, Scalar> level;
   level.lattice = lattice;
   level.cells = std::move(cells);
   level.mu = static_cast<Scalar>(material.mu());
   level.lambda = static_cast<Scalar>(material.lambda());
+  level.inertia = static_cast<Scalar>(inertia);
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(lattice.size());
   const Classifier<Dim> classifier{level.lattice, level.cells};
   for (int f = 0; f <= Dim; ++f) {
@@ -514,7 +515,7 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
   mark_traction_variables(level);
   std::vector<std::uint8_t> pre(Dim * n, 0), post(Dim * n, 0);
   classify_relaxation(level, coarse_cells, pre, post);
-  const RowBuilder<Dim> builder(level.lattice, level.cells, material.mu(), sigma);
+  const RowBuilder<Dim> builder(level.lattice, level.cells, material.mu(), sigma, inertia);
   build_band_rows(level, builder, pre, post);
   build_band_blocks(level);
   level.blocks = partition_into_blocks(level.lattice);
@@ -539,7 +540,7 @@ void set_dirichlet_values(Level<Dim, Scalar>& level,
   template struct Level<D, S>;                                                      \
   template Level<D, S> build_level<D, S>(const Lattice<D>&, std::vector<CellType>,  \
                                          const Material&, const BoundaryStress<D>&, \
-                                         const std::vector<CellType>*);             \
+                                         const std::vector<CellType>*, double);     \
   template void set_dirichlet_values<D, S>(Level<D, S>&,                            \
                                            const std::function<Vec<D>(const Vec<D>&)>&);
 MGELASTIC_INSTANTIATE(2, float)

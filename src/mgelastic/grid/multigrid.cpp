@@ -109,7 +109,7 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
   if constexpr (mixed) {
     m_solution = std::make_unique<Level<Dim, double>>(
         build_level<Dim, double>(lattices[0], cells[0], problem.material, problem.boundary_stress,
-                                 lattices.size() > 1 ? &cells[1] : nullptr));
+                                 lattices.size() > 1 ? &cells[1] : nullptr, problem.inertia));
     set_dirichlet_values(*m_solution, problem.dirichlet_displacement);
     set_right_hand_side(problem, *m_solution);
     back_substitute_traction(*m_solution);
@@ -132,7 +132,7 @@ void Multigrid<Dim, Scalar>::build_levels(const ElasticityProblem<Dim>& problem,
     m_levels.push_back(
         build_level<Dim, Scalar>(lattices[l], cells[l], problem.material,
                                  finest ? problem.boundary_stress : BoundaryStress<Dim>{},
-                                 coarsest ? nullptr : &cells[l + 1]));
+                                 coarsest ? nullptr : &cells[l + 1], problem.inertia));
   }
 }
 

@@ -87,6 +87,13 @@ class Multigrid {
   // Memory of all levels' arrays (the working set of a cycle, without the coarse factor).
   std::size_t bytes() const;
   const PhaseSeconds& phase_seconds() const { return m_phases; }
+  // The finest level in double precision that holds the solution x and the right-hand side b
+  // (the float finest level solves only corrections in mixed precision). Time integrators
+  // (backward_euler.hpp) write b and the initial guess here between solves.
+  Level<Dim, double>& solution_level();
+  const Level<Dim, double>& solution_level() const {
+    return const_cast<Multigrid*>(this)->solution_level();
+  }
 
  private:
   void build_levels(const ElasticityProblem<Dim>& problem,
@@ -94,7 +101,6 @@ class Multigrid {
                     const std::vector<std::vector<CellType>>& cells);
   void smooth(int l);
   void cycle_correction();
-  Level<Dim, double>& solution_level();
   void correct(int level);
   template <typename T>
   void set_right_hand_side(const ElasticityProblem<Dim>& problem, Level<Dim, T>& level);
