@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/grid/backward_euler.hpp"
@@ -250,6 +251,23 @@ TEST(BackwardEuler, InertiaTermKeepsTheCyclesConverging) {
       for (double rate : rates) EXPECT_LT(rate, 0.6);
       EXPECT_LT(rates.back(), 0.05);  // inertia-dominated: nearly a mass matrix
     }
+  }
+}
+
+TEST(BackwardEuler, DivergedStepThrowsNamingTheTime) {
+  const ElasticityProblem<3> problem = bar(16, 8, 0.01, 2, kSoft);
+  BackwardEuler<3, float> sim(problem, {.dt = 0.01, .density = kDensity});
+  sim.step();
+  const auto& level = sim.multigrid().solution_level();
+  const std::ptrdiff_t k = level.lattice.index(IVec<3>(10, 4, 4));
+  ASSERT_EQ(level.kind[1][k], VarKind::INTERIOR);
+  sim.velocity()[1][k] = std::nan("");  // what a blown-up step would leave
+  try {
+    sim.step();
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("time step from t = 0.01 s diverged"), std::string::npos)
+        << e.what();
   }
 }
 
