@@ -9,6 +9,7 @@
 #include <string>
 
 #include "mgelastic/core/error.hpp"
+#include "mgelastic/core/threads.hpp"
 #include "mgelastic/grid/backward_euler.hpp"
 #include "mgelastic/grid/box_problem.hpp"
 #include "mgelastic/grid/convergence_rate.hpp"
@@ -59,10 +60,22 @@ BackwardEuler<3, double>::VectorField bending_velocity(double x0, double length,
   };
 }
 
+// The lattices here are small and some tests take 1000 steps: one thread avoids the OpenMP
+// overhead, which dominates on small lattices and on a loaded machine (results do not depend on
+// the thread count, Threads.ResultsDoNotDependOnThreadCount).
+class BackwardEulerDynamics : public ::testing::Test {
+ protected:
+  void SetUp() override { set_thread_count(1); }
+  void TearDown() override { set_thread_count(m_saved); }
+
+ private:
+  int m_saved = thread_count();
+};
+
 const Material kSoft{1e5, 0.3};
 constexpr double kDensity = 1000.0;
 
-TEST(BackwardEuler, FreeFallIsExact) {
+TEST_F(BackwardEulerDynamics, FreeFallIsExact) {
   // No constraint: inertia alone makes the system definite; a uniform translation is strain
   // free, so every face must follow backward Euler's free fall u_n = g dt^2 n (n + 1) / 2.
   ElasticityProblem<3> problem = bar(16, 8, 0.01, 0, kSoft);
@@ -83,7 +96,7 @@ TEST(BackwardEuler, FreeFallIsExact) {
   EXPECT_LT(worst, 1e-8 * std::abs(expected));
 }
 
-TEST(BackwardEuler, RigidDrivingWithMatchingInitialVelocityStaysRigid) {
+TEST_F(BackwardEulerDynamics, RigidDrivingWithMatchingInitialVelocityStaysRigid) {
   // Dirichlet end translated at speed V and the body starting at V: the motion is a rigid
   // translation, which the warm start u + dt v predicts exactly, so one cycle per step keeps it.
   const ElasticityProblem<3> problem = bar(16, 8, 0.01, 2, kSoft);
@@ -130,7 +143,7 @@ EnergyHistory oscillate(double damping, int steps, double dt, int vcycles_per_st
   return history;
 }
 
-TEST(BackwardEuler, UndampedBarKeepsBoundedEnergyOver1000Steps) {
+TEST_F(BackwardEulerDynamics, UndampedBarKeepsBoundedEnergyOver1000Steps) {
   // Backward Euler only dissipates; one V-cycle per step must not add energy. For the first
   // bending mode (omega ~ 10.6 rad/s) at dt = 2 ms the exact scheme keeps (1 + (omega dt)^2)^-1000
   // ~ 0.64 of the energy; higher modes in the initial profile are damped faster.
@@ -146,7 +159,7 @@ TEST(BackwardEuler, UndampedBarKeepsBoundedEnergyOver1000Steps) {
   EXPECT_GT(h.total.back(), 0.4 * e0);  // still oscillating: no spurious dissipation
 }
 
-TEST(BackwardEuler, ConvergedDampedStepsNeverAddEnergy) {
+TEST_F(BackwardEulerDynamics, ConvergedDampedStepsNeverAddEnergy) {
   // Solved to 1e-10, each damped step dissipates (the energy identity of backward Euler with
   // Rayleigh damping): the right-hand side's damping and inertia terms are consistent.
   const EnergyHistory damped = oscillate(0.01, 100, 2e-3, 0);
@@ -154,7 +167,7 @@ TEST(BackwardEuler, ConvergedDampedStepsNeverAddEnergy) {
     ASSERT_LE(damped.total[n], damped.total[n - 1] * (1 + 1e-9)) << "step " << n;
 }
 
-TEST(BackwardEuler, DampingMakesTheEnvelopeDecayMonotonically) {
+TEST_F(BackwardEulerDynamics, DampingMakesTheEnvelopeDecayMonotonically) {
   const EnergyHistory undamped = oscillate(0.0, 1000, 2e-3);
   const EnergyHistory damped = oscillate(0.01, 1000, 2e-3);
   // Peaks of |u_tip| (half periods).
@@ -203,7 +216,7 @@ std::pair<double, double> step_rates(double poisson, double dt, int steps, bool*
   return {std::exp(log_sum / steps), worst};
 }
 
-TEST(BackwardEuler, OneVCyclePerStepReducesTheResidualAt30Fps) {
+TEST_F(BackwardEulerDynamics, OneVCyclePerStepReducesTheResidualAt30Fps) {
   // Paper: 0.08 per V-cycle for its car. Measured here over 60 steps: mean 0.10, most steps
   // 0.08-0.10; the worst, 0.23, at the bar's turning points, where the new step's residual is
   // small next to the error carried over from earlier single-cycle steps.
@@ -214,7 +227,7 @@ TEST(BackwardEuler, OneVCyclePerStepReducesTheResidualAt30Fps) {
   EXPECT_LE(worst, 0.3);
 }
 
-TEST(BackwardEuler, LargeStepAtNearIncompressibilityStaysFinite) {
+TEST_F(BackwardEulerDynamics, LargeStepAtNearIncompressibilityStaysFinite) {
   bool finite = false;
   const auto [mean, worst] = step_rates(0.49, 1.0 / 24, 48, &finite);
   std::printf("per-step V-cycle reduction, nu = 0.49, dt = 1/24: mean %.3f, worst %.3f\n", mean,
@@ -230,7 +243,7 @@ TEST(BackwardEuler, LargeStepAtNearIncompressibilityStaysFinite) {
 // middle range (c h^2 / mu ~ 1 - 10) where the rate at nu = 0.49 is up to 0.33 instead of 0.20
 // on the mixed box, and small c changes the static rate by up to 16% (0.191 -> 0.221, mixed box,
 // nu = 0.3); the paper expects no slow-down (docs/grid-engine.md).
-TEST(BackwardEuler, InertiaTermKeepsTheCyclesConverging) {
+TEST_F(BackwardEulerDynamics, InertiaTermKeepsTheCyclesConverging) {
   const std::vector<double> ratios{0.0, 0.01, 0.1, 1.0, 10.0, 1000.0};
   for (const BoxBoundary boundary : {BoxBoundary::MIXED, BoxBoundary::DIRICHLET}) {
     for (const double nu : {0.3, 0.49}) {
@@ -254,7 +267,7 @@ TEST(BackwardEuler, InertiaTermKeepsTheCyclesConverging) {
   }
 }
 
-TEST(BackwardEuler, DivergedStepThrowsNamingTheTime) {
+TEST_F(BackwardEulerDynamics, DivergedStepThrowsNamingTheTime) {
   const ElasticityProblem<3> problem = bar(16, 8, 0.01, 2, kSoft);
   BackwardEuler<3, float> sim(problem, {.dt = 0.01, .density = kDensity});
   sim.step();
@@ -271,7 +284,7 @@ TEST(BackwardEuler, DivergedStepThrowsNamingTheTime) {
   }
 }
 
-TEST(BackwardEuler, RejectsBadOptions) {
+TEST_F(BackwardEulerDynamics, RejectsBadOptions) {
   const ElasticityProblem<3> problem = bar(16, 8, 0.01, 2, kSoft);
   EXPECT_THROW((BackwardEuler<3, double>(problem, {.dt = 0.0})), Error);
   EXPECT_THROW((BackwardEuler<3, double>(problem, {.dt = 0.01, .density = -1})), Error);
@@ -279,7 +292,7 @@ TEST(BackwardEuler, RejectsBadOptions) {
   EXPECT_THROW((BackwardEuler<3, double>(problem, {.dt = 0.01, .vcycles_per_step = -1})), Error);
 }
 
-TEST(BackwardEuler, StaticProblemWithoutSupportIsStillRejected) {
+TEST_F(BackwardEulerDynamics, StaticProblemWithoutSupportIsStillRejected) {
   const ElasticityProblem<3> problem = bar(16, 8, 0.01, 0, kSoft);
   EXPECT_THROW((Multigrid<3, double>(problem)), Error);
 }
