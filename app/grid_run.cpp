@@ -1,12 +1,14 @@
 #include "grid_run.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "frame_files.hpp"
 #include "interruption.hpp"
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/timer.hpp"
+#include "mgelastic/grid/backward_euler.hpp"
 #include "mgelastic/grid/multigrid.hpp"
 #include "mgelastic/grid/node_fields.hpp"
 #include "mgelastic/grid/surface_interpolation.hpp"
@@ -105,6 +107,28 @@ void restore_grid(const io::Checkpoint& c, grid::Multigrid<3, Scalar>& mg,
   series = series_of(c);
 }
 
+// Checkpoint state of a dynamic run: the multigrid's unknowns as for statics, the face
+// velocities ("grid.v0".."grid.v2") and the time of the last step.
+template <typename Scalar>
+io::Checkpoint dynamics_checkpoint(const RunCheckpoints& checkpoints,
+                                   const grid::BackwardEuler<3, Scalar>& sim, int frame,
+                                   const std::vector<io::SeriesEntry>& series) {
+  io::Checkpoint c = grid_checkpoint(checkpoints, sim.multigrid(), frame, sim.time(), series);
+  const auto& v = sim.velocity();
+  for (std::size_t f = 0; f < v.size(); ++f) c.add<double>("grid.v" + std::to_string(f), v[f]);
+  return c;
+}
+
+template <typename Scalar>
+void restore_dynamics(const io::Checkpoint& c, grid::BackwardEuler<3, Scalar>& sim,
+                      std::vector<io::SeriesEntry>& series) {
+  restore_grid(c, sim.multigrid(), series);
+  auto& v = sim.velocity();
+  for (std::size_t f = 0; f < v.size(); ++f)
+    v[f] = c.get<double>("grid.v" + std::to_string(f), static_cast<std::int64_t>(v[f].size()));
+  sim.set_time(c.time);
+}
+
 struct Totals {
   int frames = 0, cycles = 0;
   double solve_seconds = 0, output_seconds = 0, worst_residual = 0;
@@ -185,13 +209,118 @@ void simulate(const scene::Scene& s, const scene::GridSetup& setup,
   std::printf("wrote %s\n", dir.string().c_str());
 }
 
+// Dynamic run (Sec. 8): `time.substeps` backward-Euler steps per frame, each with
+// `time.vcycles_per_step` warm-started cycles (or cycles to the tolerance), keyframed regions
+// moved to each step's time. A diverging step stops the run with the frames written so far.
+template <typename Scalar>
+void simulate_dynamic(const scene::Scene& s, const scene::GridSetup& setup,
+                      const std::filesystem::path& dir, double setup_seconds,
+                      RunCheckpoints& checkpoints) {
+  grid::MultigridOptions options;
+  options.boundary_sweeps = s.boundary_sweeps;
+  options.band_layers = s.band_layers;
+  options.cycle = s.cycle == "W" ? grid::CycleType::W : grid::CycleType::V;
+  const grid::TimeStepOptions stepping{.dt = s.time.dt / s.time.substeps,
+                                       .density = s.density,
+                                       .damping = s.time.damping,
+                                       .mass_damping = s.time.mass_damping,
+                                       .vcycles_per_step = s.time.vcycles_per_step,
+                                       .tolerance = s.tolerance,
+                                       .max_vcycles = s.max_vcycles,
+                                       .accelerate = s.accelerate};
+  Timer timer;
+  grid::BackwardEuler<3, Scalar> sim(setup.problem, stepping, options);
+  const double hierarchy_seconds = timer.seconds();
+  const auto& mg = sim.multigrid();
+  std::printf(
+      "hierarchy: %d levels, %zu unknowns, %.0f MB (%.2f s); backward Euler, step %.4g s "
+      "(%d per frame), c = %.3g N/m^4, %s\n",
+      mg.levels(), mg.unknowns(), mg.bytes() / 1e6, hierarchy_seconds, stepping.dt, s.time.substeps,
+      sim.inertia(),
+      s.time.vcycles_per_step > 0
+          ? (std::to_string(s.time.vcycles_per_step) + " cycle(s) per step").c_str()
+          : "cycles to the tolerance");
+  const Eigen::Vector3d v0 = s.initial_velocity;
+  if (v0.squaredNorm() > 0) sim.set_velocity([v0](const grid::Vec<3>&) { return v0; });
+  std::vector<io::SeriesEntry> series;
+  if (const io::Checkpoint* resume = checkpoints.resume_from()) {
+    restore_dynamics(*resume, sim, series);
+    std::printf("resumed from %s: frame %d (t = %.6g s) done\n", resume->source.c_str(),
+                resume->frame, resume->time);
+  }
+  Progress progress("frames", s.time.frames);
+  Totals totals;
+  int steps = 0;
+  double log_rate_sum = 0;
+  for (int frame = checkpoints.first_frame(); frame < s.time.frames; ++frame) {
+    double frame_worst = 0;
+    for (int sub = 0; sub < s.time.substeps; ++sub) {
+      const double next = sim.time() + stepping.dt;
+      grid::SolveReport report;
+      try {
+        report =
+            sim.step(setup.animated() ? scene::dirichlet_displacement(setup, next)
+                                      : typename grid::BackwardEuler<3, Scalar>::VectorField{});
+      } catch (const Error& e) {
+        progress.finish();
+        throw frame_failed(e, checkpoints, frame, next);
+      }
+      const double relative =
+          report.residuals.front() > 0 ? report.residuals.back() / report.residuals.front() : 0.0;
+      if (relative > 0 && report.cycles() > 0) {
+        log_rate_sum += std::log(relative) / report.cycles();
+        ++steps;
+      }
+      frame_worst = std::max(frame_worst, relative);
+      totals.cycles += report.cycles();
+      totals.solve_seconds += report.seconds;
+    }
+    totals.worst_residual = std::max(totals.worst_residual, frame_worst);
+    const double time = sim.time();
+    timer.restart();
+    for (const auto& e : write_frame(mg, setup, s, dir, frame, time)) series.push_back(e);
+    if (!series.empty()) io::write_pvd(dir / "simulation.pvd", series);
+    totals.output_seconds += timer.seconds();
+    char status[160];
+    std::snprintf(status, sizeof status, "t = %.3f s  worst step residual reduction %.2e", time,
+                  frame_worst);
+    progress.update(frame + 1, status);
+    ++totals.frames;
+    const bool interrupted = interruption_requested();
+    checkpoints.completed(dynamics_checkpoint(checkpoints, sim, frame, series), interrupted);
+    if (interrupted) {
+      progress.finish();
+      std::printf("interrupted: stopped after frame %d of %d; every written frame is complete\n",
+                  frame + 1, s.time.frames);
+      break;
+    }
+  }
+  progress.finish();
+  const auto& ph = mg.phase_seconds();
+  std::printf(
+      "summary: %zu interior + %zu Dirichlet cells (lattice %d x %d x %d, h = %.4g m), %d levels, "
+      "%d frames, %d steps, %d %s-cycles, residual reduction per cycle: mean %.3f, worst step "
+      "%.3f\n"
+      "time: setup %.2f s, hierarchy %.2f s, solve %.2f s = %.3f s/frame (boundary %.2f, interior "
+      "%.2f, residual %.2f, transfers %.2f, coarse %.2f), output %.2f s\n",
+      setup.interior_cells, setup.dirichlet_cells, setup.voxels.dims[0], setup.voxels.dims[1],
+      setup.voxels.dims[2], setup.voxels.cell_size, mg.levels(), totals.frames,
+      totals.frames * s.time.substeps, totals.cycles, s.cycle.c_str(),
+      steps > 0 ? std::exp(log_rate_sum / steps) : 0.0, totals.worst_residual, setup_seconds,
+      hierarchy_seconds, totals.solve_seconds,
+      totals.frames > 0 ? totals.solve_seconds / totals.frames : 0.0, ph.boundary_smoothing,
+      ph.interior_smoothing, ph.residual, ph.restriction + ph.prolongation, ph.coarse_solve,
+      totals.output_seconds);
+  std::printf("wrote %s\n", dir.string().c_str());
+}
+
 }  // namespace
 
 void run_grid_scene(const scene::Scene& s, const std::filesystem::path& dir,
                     RunCheckpoints& checkpoints) {
-  if (!s.time.quasistatic)
-    throw Error("dynamic runs of the grid engine are not implemented yet (set quasistatic: true)",
-                ErrorContext{.file = s.file, .pointer = "/time/quasistatic"});
+  if (!s.time.quasistatic && s.time.integrator != "implicit_euler")
+    throw Error("the grid engine integrates with implicit_euler (backward Euler, Sec. 8) only",
+                ErrorContext{.file = s.file, .pointer = "/time/integrator"});
   Timer timer;
   const scene::GridSetup setup = scene::build_grid_setup(s);
   const double setup_seconds = timer.seconds();
@@ -201,7 +330,13 @@ void run_grid_scene(const scene::Scene& s, const std::filesystem::path& dir,
       s.file.c_str(), setup.interior_cells, setup.dirichlet_cells, setup.voxels.dims[0],
       setup.voxels.dims[1], setup.voxels.dims[2], setup.surface.triangle_count(),
       setup.traction_triangles ? " (some under traction)" : "");
-  if (s.precision == "double") {
+  if (!s.time.quasistatic) {
+    if (s.precision == "double") {
+      simulate_dynamic<double>(s, setup, dir, setup_seconds, checkpoints);
+    } else {
+      simulate_dynamic<float>(s, setup, dir, setup_seconds, checkpoints);
+    }
+  } else if (s.precision == "double") {
     simulate<double>(s, setup, dir, setup_seconds, checkpoints);
   } else {
     simulate<float>(s, setup, dir, setup_seconds, checkpoints);

@@ -117,9 +117,10 @@ CASES = [
     ("grid_material_regions", "per-region materials on the grid engine",
      {"s.json": scene(', "material": {"regions": [{"region": %s}]}' % BAR)},
      ["run", "s.json"], 2, r"/material/regions: per-region materials are supported by the tet"),
-    ("grid_dynamic", "dynamics on the grid engine (not implemented yet)",
-     {"s.json": scene(', "time": {"quasistatic": false}')}, ["run", "s.json"], 2,
-     r"/time/quasistatic: dynamic runs of the grid engine are not implemented"),
+    ("grid_newmark", "Newmark integrator asked of the grid engine (backward Euler only)",
+     {"s.json": scene(', "time": {"quasistatic": false, "integrator": "newmark"}')},
+     ["run", "s.json"], 2,
+     r"/time/integrator: the grid engine integrates with implicit_euler"),
     ("tet_traction_nothing", "tet traction region holds no boundary face",
      {"s.json": scene(', "engine": "tet", "loads": {"tractions": [{"region": {"sphere": '
                       '{"radius": 0.01}}, "traction": [1, 0, 0]}]}')}, ["run", "s.json"], 2,

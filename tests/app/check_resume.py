@@ -1,6 +1,6 @@
 """Checkpoint/resume of `mgelastic run` (docs/reliability.md, "Checkpoints and resume").
 
-  check_resume.py CLI TET_EXAMPLE grid|tet   a run killed with SIGKILL after some frames, then
+  check_resume.py CLI TET_EXAMPLE grid|grid_dynamic|tet   a run killed with SIGKILL after some frames, then
       resumed with --resume, leaves every output file byte-identical to an uninterrupted run
       (same thread count), the checkpoint included;
   check_resume.py CLI TET_EXAMPLE refusals   damaged, foreign-version, other-scene, other-thread
@@ -150,8 +150,17 @@ def check_refusals():
     print("ok refusals")
 
 
+def grid_dynamic_scene():
+    scene = grid_scene()  # backward Euler: the face velocities are carried between frames too
+    scene["time"].update({"quasistatic": False, "dt": 1 / 30, "substeps": 2})
+    scene["time"]["frames"] = 24
+    return scene
+
+
 if mode == "grid":
     check_resume("grid", grid_scene())
+elif mode == "grid_dynamic":
+    check_resume("grid_dynamic", grid_dynamic_scene())
 elif mode == "tet":
     check_resume("tet", tet_scene())
 else:

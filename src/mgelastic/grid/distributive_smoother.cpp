@@ -40,15 +40,17 @@ void sweep_momentum(Level<Dim, Scalar>& level, Views<Dim, Scalar>& v) {
   const Relaxation* relax = level.relaxation[Axis].data();
   const Scalar* b = level.b[Axis].data();
   // At lambda = 0 the pressure vanishes identically (it is eliminated exactly) and the step is
-  // plain Gauss-Seidel on the momentum row, whose diagonal is -(2d + 2) mu / h^2.
+  // plain Gauss-Seidel on the momentum row, whose diagonal is -(2d + 2) mu / h^2 - c.
   const bool pressure_free = level.lambda <= 0;
+  const Scalar c = level.inertia;
   const Scalar inv_diagonal =
-      Scalar(-1) / (Scalar(pressure_free ? 2 * Dim + 2 : 2 * Dim) * v.c.mu * v.c.inv_h2);
+      Scalar(-1) / (Scalar(pressure_free ? 2 * Dim + 2 : 2 * Dim) * v.c.mu * v.c.inv_h2 + c);
   const Scalar p_step = pressure_free ? Scalar(0) : v.c.inv_h;
   const std::ptrdiff_t si = v.s[Axis];
   for_each_colored_block(level, [&](std::ptrdiff_t k) {
     if (relax[k] != Relaxation::DISTRIBUTIVE) return;
-    const Scalar r = b[k] - momentum_row<Dim, Scalar, Axis>(v.u_const, v.p, v.s, k, v.c);
+    const Scalar r =
+        b[k] - momentum_row<Dim, Scalar, Axis>(v.u_const, v.p, v.s, k, v.c) + c * v.u[Axis][k];
     const Scalar delta = r * inv_diagonal;
     v.u[Axis][k] += delta;
     v.p[k] -= delta * p_step;
@@ -57,7 +59,8 @@ void sweep_momentum(Level<Dim, Scalar>& level, Views<Dim, Scalar>& v) {
 }
 
 // q step next to Dirichlet cells: the distribution moves only interior faces and interior
-// pressures, so (LM)_pp = (mu n_faces + 4 d D) / h^2 with n_faces the faces it moves.
+// pressures, so (LM)_pp = (mu n_faces + 4 d D) / h^2 + D c / mu with n_faces the faces it moves
+// and D = mu^2 / lambda.
 template <int Dim, typename Scalar>
 void restricted_pressure_step(Level<Dim, Scalar>& level, Views<Dim, Scalar>& v, std::ptrdiff_t k,
                               Scalar residual_times_lambda) {
@@ -68,8 +71,9 @@ void restricted_pressure_step(Level<Dim, Scalar>& level, Views<Dim, Scalar>& v, 
     moved += cells[k - v.s[i]] == CellType::INTERIOR;
     moved += cells[k + v.s[i]] == CellType::INTERIOR;
   }
-  const Scalar delta = residual_times_lambda /
-                       ((lambda * mu * Scalar(moved) + Scalar(4 * Dim) * mu * mu) * v.c.inv_h2);
+  const Scalar delta =
+      residual_times_lambda /
+      ((lambda * mu * Scalar(moved) + Scalar(4 * Dim) * mu * mu) * v.c.inv_h2 + mu * level.inertia);
   const Scalar du = delta * v.c.inv_h;
   for (int i = 0; i < Dim; ++i) {
     if (cells[k + v.s[i]] == CellType::INTERIOR) {
@@ -81,7 +85,7 @@ void restricted_pressure_step(Level<Dim, Scalar>& level, Views<Dim, Scalar>& v, 
       v.p[k - v.s[i]] -= 2 * delta * v.c.inv_h2;
     }
   }
-  v.p[k] += Scalar(4 * Dim) * delta * v.c.inv_h2;
+  v.p[k] += (Scalar(4 * Dim) * v.c.inv_h2 + level.inertia / mu) * delta;
 }
 
 template <int Dim, typename Scalar>
@@ -102,7 +106,8 @@ void sweep_pressure(Level<Dim, Scalar>& level, Views<Dim, Scalar>& v) {
   // delta = r_p / (LM)_pp with numerator and denominator multiplied by lambda, so that the step
   // stays finite for small lambda.
   const Scalar inv_denominator =
-      Scalar(1) / (mu * (lambda + 2 * mu) * Scalar(2 * Dim) * v.c.inv_h2);
+      Scalar(1) / (mu * (lambda + 2 * mu) * Scalar(2 * Dim) * v.c.inv_h2 + mu * level.inertia);
+  const Scalar p_center = Scalar(4 * Dim) * v.c.inv_h2 + level.inertia / mu;
   for_each_colored_block(level, [&](std::ptrdiff_t k) {
     if (relax[k] != Relaxation::DISTRIBUTIVE) return;
     const Scalar div = divergence<Dim, Scalar>(v.u_const, v.s, k, v.c.inv_h);
@@ -119,7 +124,7 @@ void sweep_pressure(Level<Dim, Scalar>& level, Views<Dim, Scalar>& v) {
       v.p[k + v.s[i]] -= 2 * delta * v.c.inv_h2;
       v.p[k - v.s[i]] -= 2 * delta * v.c.inv_h2;
     }
-    v.p[k] += Scalar(4 * Dim) * delta * v.c.inv_h2;
+    v.p[k] += p_center * delta;
   });
 }
 

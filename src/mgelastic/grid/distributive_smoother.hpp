@@ -11,6 +11,10 @@
 //                     p[k] += 4 d delta / h^2,  p[k +- s_j] -= 2 delta / h^2;
 //                     (LM)_pp = mu (1 + 2 mu/lambda) 2 d / h^2
 // Sweeps visit u_1, u_2, (u_3), then p, in this exact order, over equations marked DISTRIBUTIVE.
+// Dynamics (Sec. 8): with the inertia term the momentum rows read L_i - c u_i and the
+// distribution's pressure block becomes -2 Lap + c/mu, which keeps L M lower triangular:
+//   (LM)_ii = -2 d mu / h^2 - c,   q step: p[k] += (4 d / h^2 + c / mu) delta,
+//   (LM)_pp = mu (1 + 2 mu/lambda) 2 d / h^2 + c mu / lambda.
 #include "mgelastic/grid/level.hpp"
 
 namespace mgelastic::grid {

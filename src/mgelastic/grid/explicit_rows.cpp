@@ -24,8 +24,8 @@ void merge_duplicates(ExplicitRow& row) {
 
 template <int Dim>
 RowBuilder<Dim>::RowBuilder(const Lattice<Dim>& lattice, const std::vector<CellType>& cells,
-                            double mu, BoundaryStress<Dim> sigma)
-    : m_lattice(lattice), m_cells(cells), m_mu(mu), m_sigma(std::move(sigma)) {}
+                            double mu, BoundaryStress<Dim> sigma, double inertia)
+    : m_lattice(lattice), m_cells(cells), m_mu(mu), m_sigma(std::move(sigma)), m_inertia(inertia) {}
 
 template <int Dim>
 std::uint32_t RowBuilder<Dim>::u(int axis, std::ptrdiff_t k) const {
@@ -95,6 +95,7 @@ ExplicitRow RowBuilder<Dim>::momentum(int axis, std::ptrdiff_t k) const {
     add_shear_stress(axis, j, k + m_lattice.stride(j), inv_h, row);
     add_shear_stress(axis, j, k, -inv_h, row);
   }
+  if (m_inertia != 0.0) row.terms.push_back({u(axis, k), -m_inertia});
   merge_duplicates(row);
   return row;
 }

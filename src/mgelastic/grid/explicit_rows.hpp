@@ -8,6 +8,7 @@
 // with P_ii = 2 mu F_ii - mu p = sigma, i.e. mu F_ii -> (sigma + mu p) / 2, which adds mu/2 to
 // the pressure diagonal (`pressure_extra`) and sigma/2 to `constant`.
 // Variables are global indices (field * lattice.size() + k); Dirichlet variables stay as terms.
+// The inertia term of a dynamics step (Sec. 8), -c u_i, is part of every momentum row.
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -31,7 +32,7 @@ template <int Dim>
 class RowBuilder {
  public:
   RowBuilder(const Lattice<Dim>& lattice, const std::vector<CellType>& cells, double mu,
-             BoundaryStress<Dim> sigma);
+             BoundaryStress<Dim> sigma, double inertia = 0.0);
   ExplicitRow momentum(int axis, std::ptrdiff_t k) const;
   ExplicitRow pressure(std::ptrdiff_t k) const;
 
@@ -48,6 +49,7 @@ class RowBuilder {
   const std::vector<CellType>& m_cells;
   double m_mu;
   BoundaryStress<Dim> m_sigma;
+  double m_inertia;
 };
 
 }  // namespace mgelastic::grid

@@ -207,7 +207,8 @@ void widen_band_cells(Level<Dim, Scalar>& level, int layers) {
 
 template <int Dim, typename Scalar>
 void classify_relaxation(Level<Dim, Scalar>& level, const std::vector<CellType>* coarse_cells,
-                         std::vector<std::uint8_t>& pre, std::vector<std::uint8_t>& post, int band_layers) {
+                         std::vector<std::uint8_t>& pre, std::vector<std::uint8_t>& post,
+                         int band_layers) {
   const Classifier<Dim> classifier{level.lattice, level.cells};
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(level.size());
   std::optional<RelocationTest<Dim>> relocation;
@@ -518,12 +519,14 @@ std::size_t Level<Dim, Scalar>::bytes() const {
 template <int Dim, typename Scalar>
 Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType> cells,
                                const Material& material, const BoundaryStress<Dim>& sigma,
-                               const std::vector<CellType>* coarse_cells, int band_layers) {
+                               const std::vector<CellType>* coarse_cells, double inertia,
+                               int band_layers) {
   Level<Dim, Scalar> level;
   level.lattice = lattice;
   level.cells = std::move(cells);
   level.mu = static_cast<Scalar>(material.mu());
   level.lambda = static_cast<Scalar>(material.lambda());
+  level.inertia = static_cast<Scalar>(inertia);
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(lattice.size());
   const Classifier<Dim> classifier{level.lattice, level.cells};
   for (int f = 0; f <= Dim; ++f) {
@@ -540,7 +543,7 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
   mark_traction_variables(level);
   std::vector<std::uint8_t> pre(Dim * n, 0), post(Dim * n, 0);
   classify_relaxation(level, coarse_cells, pre, post, band_layers);
-  const RowBuilder<Dim> builder(level.lattice, level.cells, material.mu(), sigma);
+  const RowBuilder<Dim> builder(level.lattice, level.cells, material.mu(), sigma, inertia);
   build_band_rows(level, builder, pre, post);
   build_band_blocks(level);
   level.blocks = partition_into_blocks(level.lattice);
@@ -561,12 +564,12 @@ void set_dirichlet_values(Level<Dim, Scalar>& level,
   }
 }
 
-#define MGELASTIC_INSTANTIATE(D, S)                                                 \
-  template struct Level<D, S>;                                                      \
-  template Level<D, S> build_level<D, S>(const Lattice<D>&, std::vector<CellType>,  \
-                                         const Material&, const BoundaryStress<D>&, \
-                                         const std::vector<CellType>*, int);        \
-  template void set_dirichlet_values<D, S>(Level<D, S>&,                            \
+#define MGELASTIC_INSTANTIATE(D, S)                                                  \
+  template struct Level<D, S>;                                                       \
+  template Level<D, S> build_level<D, S>(const Lattice<D>&, std::vector<CellType>,   \
+                                         const Material&, const BoundaryStress<D>&,  \
+                                         const std::vector<CellType>*, double, int); \
+  template void set_dirichlet_values<D, S>(Level<D, S>&,                             \
                                            const std::function<Vec<D>(const Vec<D>&)>&);
 MGELASTIC_INSTANTIATE(2, float)
 MGELASTIC_INSTANTIATE(2, double)

@@ -82,6 +82,7 @@ struct Level {
   Lattice<Dim> lattice;
   std::vector<CellType> cells;
   Scalar mu = 1, lambda = 0;
+  Scalar inertia = 0;  // c of a backward-Euler step: momentum rows read L u - c u (Sec. 8)
   std::array<std::vector<Scalar>, Dim + 1> x, b, r;
   std::array<std::vector<VarKind>, Dim + 1> kind;
   std::array<std::vector<Relaxation>, Dim + 1> relaxation;
@@ -134,12 +135,15 @@ struct Level {
 
 // Builds a level: classifies variables, picks distributive vs band relaxation, builds the band
 // rows and traction rules. `coarse_cells` (may be null on the coarsest level) is the next coarser
-// level's typing, which defines the Fig. 8 sets. `band_layers` extra cell layers join the band
-// (MultigridOptions::band_layers). Dirichlet values are not set here.
+// level's typing, which defines the Fig. 8 sets. Dirichlet values are not set here. `inertia`
+// is the c of a dynamics step (the same on every level: the equations are force densities and
+// the transfers average, so the coarse term is the consistently scaled one). `band_layers`
+// extra cell layers join the band (MultigridOptions::band_layers).
 template <int Dim, typename Scalar>
 Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType> cells,
                                const Material& material, const BoundaryStress<Dim>& sigma,
-                               const std::vector<CellType>* coarse_cells, int band_layers = 0);
+                               const std::vector<CellType>* coarse_cells, double inertia = 0.0,
+                               int band_layers = 0);
 
 // Writes prescribed displacements into every Dirichlet variable of the level.
 template <int Dim, typename Scalar>

@@ -106,10 +106,9 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
   }
   constexpr bool mixed = !std::is_same_v<Scalar, double>;
   if constexpr (mixed) {
-    m_solution = std::make_unique<Level<Dim, double>>(
-        build_level<Dim, double>(lattices[0], cells[0], problem.material, problem.boundary_stress,
-                                 lattices.size() > 1 ? &cells[1] : nullptr,
-                                 m_options.band_layers));
+    m_solution = std::make_unique<Level<Dim, double>>(build_level<Dim, double>(
+        lattices[0], cells[0], problem.material, problem.boundary_stress,
+        lattices.size() > 1 ? &cells[1] : nullptr, problem.inertia, m_options.band_layers));
     set_dirichlet_values(*m_solution, problem.dirichlet_displacement);
     set_right_hand_side(problem, *m_solution);
     back_substitute_traction(*m_solution);
@@ -129,10 +128,10 @@ void Multigrid<Dim, Scalar>::build_levels(const ElasticityProblem<Dim>& problem,
   for (std::size_t l = 0; l < lattices.size(); ++l) {
     const bool finest = l == 0 && !mixed;
     const bool coarsest = l + 1 == lattices.size();
-    m_levels.push_back(
-        build_level<Dim, Scalar>(lattices[l], cells[l], problem.material,
-                                 finest ? problem.boundary_stress : BoundaryStress<Dim>{},
-                                 coarsest ? nullptr : &cells[l + 1], m_options.band_layers));
+    m_levels.push_back(build_level<Dim, Scalar>(
+        lattices[l], cells[l], problem.material,
+        finest ? problem.boundary_stress : BoundaryStress<Dim>{},
+        coarsest ? nullptr : &cells[l + 1], problem.inertia, m_options.band_layers));
   }
 }
 

@@ -104,6 +104,13 @@ class Multigrid {
   // Memory of all levels' arrays (the working set of a cycle, without the coarse factor).
   std::size_t bytes() const;
   const PhaseSeconds& phase_seconds() const { return m_phases; }
+  // The finest level in double precision that holds the solution x and the right-hand side b
+  // (the float finest level solves only corrections in mixed precision). Time integrators
+  // (backward_euler.hpp) write b and the initial guess here between solves.
+  Level<Dim, double>& solution_level();
+  const Level<Dim, double>& solution_level() const {
+    return const_cast<Multigrid*>(this)->solution_level();
+  }
 
  private:
   void build_levels(const ElasticityProblem<Dim>& problem,
@@ -115,7 +122,6 @@ class Multigrid {
   void observe(int l, CyclePhase phase);
   [[noreturn]] void fail_diverged(const std::string& what, const std::string& reason,
                                   const std::vector<double>& residuals, const SolutionState& start);
-  Level<Dim, double>& solution_level();
   void correct(int level);
   template <typename T>
   void set_right_hand_side(const ElasticityProblem<Dim>& problem, Level<Dim, T>& level);

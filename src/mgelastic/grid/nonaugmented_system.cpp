@@ -33,7 +33,7 @@ NonAugmentedSystem<Dim> assemble_nonaugmented(const Level<Dim, Scalar>& level,
   const auto nu = static_cast<Eigen::Index>(system.u_variables.size());
   const auto np = static_cast<Eigen::Index>(system.p_variables.size());
   const double mu = level.mu, lambda = level.lambda;
-  const RowBuilder<Dim> builder(level.lattice, level.cells, mu, sigma);
+  const RowBuilder<Dim> builder(level.lattice, level.cells, mu, sigma, level.inertia);
   const auto n = level.size();
   Triplets a, g;
   system.u_constant.setZero(nu);

@@ -2,6 +2,7 @@
 // A quasistatic linear-elasticity problem on a typed lattice (Zhu et al. 2010, Sec. 5.1):
 //   div P + f = 0 in the interior cells, u = g on Dirichlet variables,
 //   P N = t on traction boundaries, with P = mu (grad u + grad u^T) + lambda (div u) I.
+// A backward-Euler step of the dynamics (Sec. 8) adds the inertia term: div P - c u = b.
 // The engine works with displacements u (DESIGN.md): the same equations as the paper's
 // positions phi = X + u without the constant (2 mu + d lambda) I, and float keeps its digits.
 #include <functional>
@@ -34,6 +35,10 @@ struct ElasticityProblem {
   std::function<double(int i, int j, const Vec<Dim>&)> boundary_stress;
   // Extra force densities at individual variables (added to the body force).
   std::vector<VariableLoad> variable_loads;
+  // The c >= 0 of a backward-Euler step (Sec. 8, backward_euler.hpp): every momentum equation
+  // of every level reads L u - c u = b (N/m^4). 0 = statics. With c > 0 a body needs no
+  // Dirichlet support (inertia makes the system definite).
+  double inertia = 0.0;
 };
 
 }  // namespace mgelastic::grid

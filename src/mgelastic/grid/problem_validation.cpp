@@ -1,5 +1,6 @@
 #include "mgelastic/grid/problem_validation.hpp"
 
+#include <cmath>
 #include <string>
 
 #include "mgelastic/core/error.hpp"
@@ -91,7 +92,12 @@ void validate(const ElasticityProblem<Dim>& problem) {
   const auto [unsupported, pieces] = count_unsupported_pieces(problem);
   if (pieces == 0)
     throw Error("the domain has no interior cell: nothing to simulate", {.pointer = "grid.cells"});
-  if (unsupported > 0)
+  if (!(std::isfinite(problem.inertia) && problem.inertia >= 0.0))
+    throw Error(
+        "the inertia term c must be finite and >= 0 (got " + std::to_string(problem.inertia) + ")",
+        {.pointer = "time"});
+  // Inertia (dynamics, c > 0) makes a free-floating piece well-posed.
+  if (unsupported > 0 && problem.inertia == 0.0)
     throw Error(std::to_string(unsupported) + " of " + std::to_string(pieces) +
                     " connected piece(s) of the body touch no Dirichlet cell; a traction-only "
                     "body is singular in statics (add a constraint region)",

@@ -15,11 +15,12 @@ void momentum_residual(Level<Dim, Scalar>& level, const std::array<const Scalar*
   const Scalar* b = level.b[Axis].data();
   Scalar* r = level.r[Axis].data();
   const Scalar* p = level.x[Dim].data();
+  const Scalar inertia = level.inertia;
   const auto n = static_cast<std::ptrdiff_t>(level.size());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t k = 0; k < n; ++k) {
     r[k] = relax[k] == Relaxation::DISTRIBUTIVE
-               ? b[k] - momentum_row<Dim, Scalar, Axis>(u, p, s, k, c)
+               ? b[k] - momentum_row<Dim, Scalar, Axis>(u, p, s, k, c) + inertia * u[Axis][k]
                : Scalar(0);
   }
 }

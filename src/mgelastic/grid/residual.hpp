@@ -7,6 +7,7 @@
 // sqrt(sum r_u^2 + sum r_p^2), momentum rows mu (Lap + grad div) u - mu grad p = -f and pressure
 // rows mu div u + (mu^2/lambda) p = 0. At lambda = 0 the pressure is eliminated exactly (p = 0)
 // and its rows do not count.
+// Dynamics steps (Sec. 8) add -c u to every momentum row (Level::inertia).
 #include "mgelastic/grid/level.hpp"
 
 namespace mgelastic::grid {

@@ -84,6 +84,8 @@ Scene parse_scene(const nlohmann::json& document, const std::string& file,
   const nlohmann::json& t = d["time"];
   s.time = {t["dt"],         t["frames"],  t["substeps"],    t["quasistatic"],
             t["integrator"], t["damping"], t["mass_damping"]};
+  s.time.vcycles_per_step = t["vcycles_per_step"];
+  s.initial_velocity = vec3(d["initial"]["velocity"]);
   const nlohmann::json& tet = d["tet"];
   s.tet = {tet["rotation"],       tet["resolution"], tet["linear_solver"], tet["tolerance"],
            tet["max_iterations"], tet["vcycles"],    tet["smoother"]};

@@ -45,7 +45,9 @@ struct Scene {
     bool quasistatic = true;
     std::string integrator = "implicit_euler";
     double damping = 0, mass_damping = 0;
+    int vcycles_per_step = 1;  // grid engine dynamics; 0 = cycle to `tolerance`
   } time;
+  Eigen::Vector3d initial_velocity = Eigen::Vector3d::Zero();
   struct Tet {
     std::string rotation = "energy";
     int resolution = 16;

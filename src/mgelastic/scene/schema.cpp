@@ -147,11 +147,22 @@ Field build_schema() {
        Field{"quasistatic", FieldType::BOOLEAN,
              "Solve static equilibrium at each frame time (true) or integrate dynamics (false)", "",
              true},
-       choice("integrator", "Time integrator of dynamic tet runs", "implicit_euler",
-              {"implicit_euler", "newmark"}),
-       number("damping", "Stiffness-proportional (Rayleigh) damping coefficient", "s", 0.0, 0.0),
-       number("mass_damping", "Mass-proportional (Rayleigh) damping coefficient", "1/s", 0.0,
-              0.0)});
+       choice("integrator",
+              "Time integrator of dynamic runs (the grid engine integrates with implicit_euler "
+              "only)",
+              "implicit_euler", {"implicit_euler", "newmark"}),
+       number("damping",
+              "Stiffness-proportional (Rayleigh) damping coefficient (gamma of the grid engine's "
+              "backward Euler, Sec. 8)",
+              "s", 0.0, 0.0),
+       number("mass_damping", "Mass-proportional (Rayleigh) damping coefficient", "1/s", 0.0, 0.0),
+       integer("vcycles_per_step",
+               "Grid engine, dynamic runs: V-cycles per time step, warm-started from the previous "
+               "step (Sec. 8); 0 = cycle to `solver.tolerance` (at most `solver.max_vcycles`)",
+               1, 0)});
+  Field initial = object("initial", "Initial state of dynamic runs",
+                         {vector3("velocity", "Uniform initial velocity of the body (grid engine)",
+                                  "m/s", nlohmann::json::array({0, 0, 0}))});
   Field tet = object(
       "tet", "Tetrahedral engine (Georgii & Westermann 2008)",
       {choice("rotation",
@@ -207,7 +218,7 @@ Field build_schema() {
   Field root = object(
       "", "A mgelastic scene",
       {engine, geometry, grid, material, array("constraints", "Dirichlet regions", constraint),
-       loads, time, solver, tet, output});
+       loads, time, initial, solver, tet, output});
   return root;
 }
 

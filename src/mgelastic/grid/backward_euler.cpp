@@ -1,0 +1,157 @@
+#include "mgelastic/grid/backward_euler.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "mgelastic/core/error.hpp"
+#include "mgelastic/grid/residual.hpp"
+
+namespace mgelastic::grid {
+namespace {
+
+[[noreturn]] void reject(const std::string& key, double value, const std::string& expected) {
+  std::ostringstream text;
+  text.precision(17);
+  text << "must be " << expected << " (got " << value << ")";
+  throw Error(text.str(), ErrorContext{.pointer = "time/" + key});
+}
+
+template <int Dim>
+ElasticityProblem<Dim> with_inertia(ElasticityProblem<Dim> problem, double inertia) {
+  problem.inertia = inertia;
+  return problem;
+}
+
+}  // namespace
+
+void validate(const TimeStepOptions& o) {
+  if (!(std::isfinite(o.dt) && o.dt > 0)) reject("dt", o.dt, "a positive finite number");
+  if (!(std::isfinite(o.density) && o.density > 0))
+    reject("density", o.density, "a positive finite number");
+  if (!(std::isfinite(o.damping) && o.damping >= 0))
+    reject("damping", o.damping, "a finite number >= 0");
+  if (!(std::isfinite(o.mass_damping) && o.mass_damping >= 0))
+    reject("mass_damping", o.mass_damping, "a finite number >= 0");
+  if (o.vcycles_per_step < 0) reject("vcycles_per_step", o.vcycles_per_step, ">= 0");
+  if (o.vcycles_per_step == 0 && !(o.tolerance > 0 && o.tolerance < 1))
+    reject("tolerance", o.tolerance, "in (0, 1) when cycling to a tolerance");
+  if (o.vcycles_per_step == 0 && o.max_vcycles < 1)
+    reject("max_vcycles", o.max_vcycles, ">= 1 when cycling to a tolerance");
+}
+
+double backward_euler_inertia(const TimeStepOptions& o) {
+  return o.density * (1.0 + o.mass_damping * o.dt) / (o.dt * (o.dt + o.damping));
+}
+
+template <int Dim, typename Scalar>
+BackwardEuler<Dim, Scalar>::BackwardEuler(ElasticityProblem<Dim> problem,
+                                          const TimeStepOptions& options,
+                                          MultigridOptions multigrid)
+    : m_options((validate(options), options)),
+      m_inertia(backward_euler_inertia(options)),
+      m_multigrid(with_inertia(std::move(problem), m_inertia), multigrid) {
+  Level<Dim, double>& level = m_multigrid.solution_level();
+  m_static_rhs = level.b;
+  for (int i = 0; i < Dim; ++i) {
+    m_velocity[i].assign(level.size(), 0.0);
+    m_previous[i].assign(level.size(), 0.0);
+  }
+}
+
+template <int Dim, typename Scalar>
+void BackwardEuler<Dim, Scalar>::set_velocity(const VectorField& velocity) {
+  const Level<Dim, double>& level = m_multigrid.solution_level();
+  for (int i = 0; i < Dim; ++i)
+    for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(level.size()); ++k)
+      m_velocity[i][k] = level.kind[i][k] == VarKind::INACTIVE
+                             ? 0.0
+                             : velocity(level.lattice.face_center(i, k))[i];
+}
+
+// b = (b_static + (gamma/dt) L u - (rho/dt) v) / beta - c u at the interior momentum rows; the
+// pressure rows keep their static right-hand side.
+template <int Dim, typename Scalar>
+void BackwardEuler<Dim, Scalar>::assemble_right_hand_side(Level<Dim, double>& level) {
+  const double dt = m_options.dt, gamma = m_options.damping, c = m_inertia;
+  const double beta = 1.0 + gamma / dt;
+  const auto n = static_cast<std::ptrdiff_t>(level.size());
+  if (gamma > 0) {
+    // The residual with b = 0 is r = -(L u - c u), so L u = c u - r (tractions included).
+    for (auto& b : level.b) std::fill(b.begin(), b.end(), 0.0);
+    compute_residual(level);
+  }
+  for (int i = 0; i < Dim; ++i) {
+    for (std::ptrdiff_t k = 0; k < n; ++k) {
+      if (level.kind[i][k] != VarKind::INTERIOR) {
+        level.b[i][k] = m_static_rhs[i][k];
+        continue;
+      }
+      const double u = level.x[i][k];
+      const double damping_force = gamma > 0 ? (gamma / dt) * (c * u - level.r[i][k]) : 0.0;
+      level.b[i][k] =
+          (m_static_rhs[i][k] + damping_force - (m_options.density / dt) * m_velocity[i][k]) /
+              beta -
+          c * u;
+    }
+  }
+  level.b[Dim] = m_static_rhs[Dim];
+}
+
+template <int Dim, typename Scalar>
+SolveReport BackwardEuler<Dim, Scalar>::step(const VectorField& dirichlet) {
+  Level<Dim, double>& level = m_multigrid.solution_level();
+  const auto n = static_cast<std::ptrdiff_t>(level.size());
+  const double dt = m_options.dt;
+  assemble_right_hand_side(level);
+  // Warm start: the previous step's displacement moved on by its velocity.
+  for (int i = 0; i < Dim; ++i) {
+    m_previous[i] = level.x[i];
+    for (std::ptrdiff_t k = 0; k < n; ++k)
+      if (level.kind[i][k] == VarKind::INTERIOR) level.x[i][k] += dt * m_velocity[i][k];
+  }
+  m_multigrid.set_dirichlet_displacement(dirichlet);  // also back-substitutes tractions
+  SolveReport report;
+  try {
+    if (m_options.vcycles_per_step > 0) {
+      report = m_multigrid.run_cycles(m_options.vcycles_per_step);
+    } else if (m_options.accelerate) {
+      report = m_multigrid.solve_accelerated(m_options.tolerance, m_options.max_vcycles);
+    } else {
+      report = m_multigrid.solve(m_options.tolerance, m_options.max_vcycles);
+    }
+  } catch (const Error& e) {
+    std::ostringstream text;
+    text << "the time step from t = " << m_time << " s diverged: " << e.what();
+    throw Error(text.str(), ErrorContext{.pointer = "time"});
+  }
+  if (!std::isfinite(report.residuals.back())) {
+    std::ostringstream text;
+    text << "the time step from t = " << m_time
+         << " s diverged (non-finite residual); try a smaller time.dt or more substeps";
+    throw Error(text.str(), ErrorContext{.pointer = "time"});
+  }
+  for (int i = 0; i < Dim; ++i)
+    for (std::ptrdiff_t k = 0; k < n; ++k)
+      m_velocity[i][k] =
+          level.kind[i][k] == VarKind::INACTIVE ? 0.0 : (level.x[i][k] - m_previous[i][k]) / dt;
+  m_time += dt;
+  return report;
+}
+
+template <int Dim, typename Scalar>
+double BackwardEuler<Dim, Scalar>::kinetic_energy() const {
+  const Level<Dim, double>& level = m_multigrid.solution_level();
+  const double volume = std::pow(level.lattice.h, Dim);
+  double sum = 0;
+  for (int i = 0; i < Dim; ++i)
+    for (std::size_t k = 0; k < level.size(); ++k)
+      if (level.kind[i][k] == VarKind::INTERIOR) sum += m_velocity[i][k] * m_velocity[i][k];
+  return 0.5 * m_options.density * volume * sum;
+}
+
+template class BackwardEuler<2, float>;
+template class BackwardEuler<2, double>;
+template class BackwardEuler<3, float>;
+template class BackwardEuler<3, double>;
+
+}  // namespace mgelastic::grid
