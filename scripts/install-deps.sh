@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages mgelastic needs to build, test and benchmark.
 # Idempotent: packages already present are skipped, so repeated runs are quick.
+# Extra package names given as arguments are installed too (scripts/install-fuzz-deps.sh).
 set -euo pipefail
 packages=(
   cmake ninja-build g++ pkg-config
@@ -8,6 +9,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libsuitesparse-dev libhypre-dev
   python3 ccache
+  "$@"
 )
 missing=()
 for p in "${packages[@]}"; do
