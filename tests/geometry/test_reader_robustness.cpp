@@ -11,6 +11,7 @@
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/geometry/surface_mesh_readers.hpp"
 #include "mgelastic/geometry/tet_mesh_readers.hpp"
+#include "support/error_of.hpp"
 #include "support/temp_dir.hpp"
 
 namespace mgelastic::geometry {
@@ -18,17 +19,7 @@ namespace {
 
 using test::TempDir;
 
-// Runs `read` and returns the Error's message; fails the test when nothing is thrown.
-template <class Read>
-std::string error_of(Read read) {
-  try {
-    read();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no mgelastic::Error thrown";
-  return {};
-}
+using test::error_of;
 
 template <class T>
 void put(std::string& s, T value) {

@@ -11,6 +11,7 @@
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/geometry/surface_mesh_readers.hpp"
 #include "mgelastic/io/surface_mesh_writers.hpp"
+#include "support/error_of.hpp"
 
 namespace mgelastic::geometry {
 namespace {
@@ -19,17 +20,7 @@ using test::make_box_mesh;
 using test::make_icosphere;
 using test::SurfaceTempDir;
 
-// Runs `read` and returns the Error's message; fails the test when nothing is thrown.
-template <class Read>
-std::string error_of(Read read) {
-  try {
-    read();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no mgelastic::Error thrown";
-  return {};
-}
+using test::error_of;
 
 // A mesh off the origin with non-terminating binary fractions, so round-trips test all digits.
 TriangleMesh sample_mesh() {
