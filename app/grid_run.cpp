@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 
 #include "frame_files.hpp"
 #include "interruption.hpp"
@@ -134,6 +135,31 @@ struct Totals {
   double solve_seconds = 0, output_seconds = 0, worst_residual = 0;
 };
 
+// The end of a frame, common to static and dynamic runs: writes its files and the series so far,
+// reports progress, hands the frame's state to the checkpoints. Returns true when the run must
+// stop (SIGINT/SIGTERM), after saying so.
+template <typename Scalar>
+bool finish_frame(const grid::Multigrid<3, Scalar>& mg, const scene::GridSetup& setup,
+                  const scene::Scene& s, const std::filesystem::path& dir, int frame, double time,
+                  const char* status, std::vector<io::SeriesEntry>& series, Totals& totals,
+                  Progress& progress, RunCheckpoints& checkpoints,
+                  const std::function<io::Checkpoint()>& state) {
+  Timer timer;
+  for (const auto& e : write_frame(mg, setup, s, dir, frame, time)) series.push_back(e);
+  if (!series.empty()) io::write_pvd(dir / "simulation.pvd", series);
+  totals.output_seconds += timer.seconds();
+  progress.update(frame + 1, status);
+  ++totals.frames;
+  const bool interrupted = interruption_requested();
+  checkpoints.completed(state(), interrupted);
+  if (interrupted) {
+    progress.finish();
+    std::printf("interrupted: stopped after frame %d of %d; every written frame is complete\n",
+                frame + 1, s.time.frames);
+  }
+  return interrupted;
+}
+
 template <typename Scalar>
 void simulate(const scene::Scene& s, const scene::GridSetup& setup,
               const std::filesystem::path& dir, double setup_seconds, RunCheckpoints& checkpoints) {
@@ -172,23 +198,12 @@ void simulate(const scene::Scene& s, const scene::GridSetup& setup,
     totals.cycles += report.cycles();
     totals.solve_seconds += report.seconds;
     totals.worst_residual = std::max(totals.worst_residual, relative);
-    timer.restart();
-    for (const auto& e : write_frame(mg, setup, s, dir, frame, time)) series.push_back(e);
-    if (!series.empty()) io::write_pvd(dir / "simulation.pvd", series);
-    totals.output_seconds += timer.seconds();
     char status[160];
     std::snprintf(status, sizeof status, "t = %.3f s  %d cycles  relative residual %.2e%s", time,
                   report.cycles(), relative, report.converged ? "" : " (NOT converged)");
-    progress.update(frame + 1, status);
-    ++totals.frames;
-    const bool interrupted = interruption_requested();
-    checkpoints.completed(grid_checkpoint(checkpoints, mg, frame, time, series), interrupted);
-    if (interrupted) {
-      progress.finish();
-      std::printf("interrupted: stopped after frame %d of %d; every written frame is complete\n",
-                  frame + 1, s.time.frames);
+    if (finish_frame(mg, setup, s, dir, frame, time, status, series, totals, progress, checkpoints,
+                     [&] { return grid_checkpoint(checkpoints, mg, frame, time, series); }))
       break;
-    }
   }
   progress.finish();
   const auto& ph = mg.phase_seconds();
@@ -277,23 +292,12 @@ void simulate_dynamic(const scene::Scene& s, const scene::GridSetup& setup,
     }
     totals.worst_residual = std::max(totals.worst_residual, frame_worst);
     const double time = sim.time();
-    timer.restart();
-    for (const auto& e : write_frame(mg, setup, s, dir, frame, time)) series.push_back(e);
-    if (!series.empty()) io::write_pvd(dir / "simulation.pvd", series);
-    totals.output_seconds += timer.seconds();
     char status[160];
     std::snprintf(status, sizeof status, "t = %.3f s  worst step residual reduction %.2e", time,
                   frame_worst);
-    progress.update(frame + 1, status);
-    ++totals.frames;
-    const bool interrupted = interruption_requested();
-    checkpoints.completed(dynamics_checkpoint(checkpoints, sim, frame, series), interrupted);
-    if (interrupted) {
-      progress.finish();
-      std::printf("interrupted: stopped after frame %d of %d; every written frame is complete\n",
-                  frame + 1, s.time.frames);
+    if (finish_frame(mg, setup, s, dir, frame, time, status, series, totals, progress, checkpoints,
+                     [&] { return dynamics_checkpoint(checkpoints, sim, frame, series); }))
       break;
-    }
   }
   progress.finish();
   const auto& ph = mg.phase_seconds();
