@@ -24,8 +24,14 @@ void merge_duplicates(ExplicitRow& row) {
 
 template <int Dim>
 RowBuilder<Dim>::RowBuilder(const Lattice<Dim>& lattice, const std::vector<CellType>& cells,
-                            double mu, BoundaryStress<Dim> sigma, double inertia)
-    : m_lattice(lattice), m_cells(cells), m_mu(mu), m_sigma(std::move(sigma)), m_inertia(inertia) {}
+                            double mu, BoundaryStress<Dim> sigma, double inertia,
+                            const std::vector<double>* cell_weight)
+    : m_lattice(lattice),
+      m_cells(cells),
+      m_mu(mu),
+      m_sigma(std::move(sigma)),
+      m_inertia(inertia),
+      m_cell_weight(cell_weight) {}
 
 template <int Dim>
 std::uint32_t RowBuilder<Dim>::u(int axis, std::ptrdiff_t k) const {
@@ -61,6 +67,7 @@ void RowBuilder<Dim>::add_normal_stress(int i, std::ptrdiff_t cell, double weigh
     return;
   }
   const double h = m_lattice.h;
+  weight *= this->weight(cell);
   row.terms.push_back({u(i, cell + si), weight * 2.0 * m_mu / h});
   row.terms.push_back({u(i, cell), -weight * 2.0 * m_mu / h});
   row.terms.push_back({p(cell), -weight * m_mu});
@@ -75,6 +82,10 @@ void RowBuilder<Dim>::add_shear_stress(int i, int j, std::ptrdiff_t edge, double
   if (exterior(edge) || exterior(edge - si) || exterior(edge - sj) || exterior(edge - si - sj)) {
     row.constant += weight * sigma(i, j, m_lattice.edge_center(i, j, edge));
     return;
+  }
+  if (m_cell_weight) {
+    weight *= 0.25 * (this->weight(edge) + this->weight(edge - si) + this->weight(edge - sj) +
+                      this->weight(edge - si - sj));
   }
   const double c = weight * m_mu / m_lattice.h;
   row.terms.push_back({u(i, edge), c});
@@ -95,7 +106,8 @@ ExplicitRow RowBuilder<Dim>::momentum(int axis, std::ptrdiff_t k) const {
     add_shear_stress(axis, j, k + m_lattice.stride(j), inv_h, row);
     add_shear_stress(axis, j, k, -inv_h, row);
   }
-  if (m_inertia != 0.0) row.terms.push_back({u(axis, k), -m_inertia});
+  if (m_inertia != 0.0)
+    row.terms.push_back({u(axis, k), -m_inertia * 0.5 * (weight(k) + weight(k - si))});
   merge_duplicates(row);
   return row;
 }

@@ -9,6 +9,10 @@
 // the pressure diagonal (`pressure_extra`) and sigma/2 to `constant`.
 // Variables are global indices (field * lattice.size() + k); Dirichlet variables stay as terms.
 // The inertia term of a dynamics step (Sec. 8), -c u_i, is part of every momentum row.
+// Optional fill weights w (fill_weights.hpp) scale the stresses of coarse cells: P_ii(cell) by
+// w(cell), P_ij(edge) by the mean w of its four cells, and the inertia of a face by the mean w of
+// its two cells. Pressure rows stay unweighted, so a momentum row's pressure coefficient is w
+// times the pressure row's u coefficient (the Schur complement G W D^-1 G^T stays symmetric).
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -32,13 +36,15 @@ template <int Dim>
 class RowBuilder {
  public:
   RowBuilder(const Lattice<Dim>& lattice, const std::vector<CellType>& cells, double mu,
-             BoundaryStress<Dim> sigma, double inertia = 0.0);
+             BoundaryStress<Dim> sigma, double inertia = 0.0,
+             const std::vector<double>* cell_weight = nullptr);
   ExplicitRow momentum(int axis, std::ptrdiff_t k) const;
   ExplicitRow pressure(std::ptrdiff_t k) const;
 
  private:
   bool exterior(std::ptrdiff_t cell) const { return m_cells[cell] == CellType::EXTERIOR; }
   double sigma(int i, int j, const Vec<Dim>& x) const { return m_sigma ? m_sigma(i, j, x) : 0.0; }
+  double weight(std::ptrdiff_t cell) const { return m_cell_weight ? (*m_cell_weight)[cell] : 1.0; }
   std::optional<Vec<Dim>> traction_face(int i, std::ptrdiff_t cell) const;
   std::uint32_t u(int axis, std::ptrdiff_t k) const;
   std::uint32_t p(std::ptrdiff_t k) const;
@@ -50,6 +56,7 @@ class RowBuilder {
   double m_mu;
   BoundaryStress<Dim> m_sigma;
   double m_inertia;
+  const std::vector<double>* m_cell_weight;
 };
 
 }  // namespace mgelastic::grid

@@ -205,6 +205,28 @@ void widen_band_cells(Level<Dim, Scalar>& level, int layers) {
   }
 }
 
+// Partly filled cells and their face neighbors join the band: then every row whose stencil
+// touches a weighted stress is an explicit (weighted) band row, and the distributive sweeps,
+// which assume the constant-coefficient stencil, never see one.
+template <int Dim, typename Scalar>
+void band_partly_filled_cells(Level<Dim, Scalar>& level) {
+  if (level.cell_weight.empty()) return;
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(level.size());
+  auto& pressure = level.relaxation[Dim];
+  auto partial = [&](std::ptrdiff_t k) {
+    return level.cells[k] == CellType::INTERIOR && level.cell_weight[k] != 1.0;
+  };
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    if (pressure[k] != Relaxation::DISTRIBUTIVE) continue;
+    bool touches = partial(k);
+    for (int j = 0; j < Dim && !touches; ++j) {
+      const std::ptrdiff_t sj = level.lattice.stride(j);
+      touches = partial(k + sj) || partial(k - sj);
+    }
+    if (touches) pressure[k] = Relaxation::BAND;
+  }
+}
+
 template <int Dim, typename Scalar>
 void classify_relaxation(Level<Dim, Scalar>& level, const std::vector<CellType>* coarse_cells,
                          std::vector<std::uint8_t>& pre, std::vector<std::uint8_t>& post,
@@ -228,6 +250,7 @@ void classify_relaxation(Level<Dim, Scalar>& level, const std::vector<CellType>*
         classifier.distributive_cell(k) && !relocated ? Relaxation::DISTRIBUTIVE : Relaxation::BAND;
   }
   widen_band_cells(level, band_layers);
+  band_partly_filled_cells(level);
   // Band faces: non-uniform footprint, next to an eliminated pressure (a psi step there would
   // be undone by the exact pressure update and over-relax u), or in the Fig. 8 sets.
   for (int i = 0; i < Dim; ++i) {
@@ -246,6 +269,11 @@ void classify_relaxation(Level<Dim, Scalar>& level, const std::vector<CellType>*
       level.relaxation[i][k] = band ? Relaxation::BAND : Relaxation::DISTRIBUTIVE;
     }
   }
+}
+
+template <int Dim, typename Scalar>
+double fill_weight(const Level<Dim, Scalar>& level, std::ptrdiff_t cell) {
+  return level.cell_weight.empty() ? 1.0 : level.cell_weight[cell];
 }
 
 template <int Dim, typename Scalar>
@@ -282,7 +310,9 @@ void build_band_rows(Level<Dim, Scalar>& level, const RowBuilder<Dim>& builder,
         // pressures follow u exactly, which gives the Schur-complement pivot.
         if (t.variable / n == static_cast<std::uint32_t>(Dim) &&
             band_p_index[t.variable % n] >= 0) {
-          const double inverse = level.band_p_inverse[band_p_index[t.variable % n]];
+          // The pressure row's coefficient of u is this row's divided by the fill weight.
+          const double inverse = level.band_p_inverse[band_p_index[t.variable % n]] /
+                                 fill_weight(level, t.variable % n);
           schur -= t.coefficient * t.coefficient * inverse;
           coupled[m] = t.variable % n;
           factor[m++] = static_cast<Scalar>(inverse * t.coefficient);
@@ -339,7 +369,7 @@ void build_band_blocks(Level<Dim, Scalar>& level) {
         const double g_a = row_coefficient(view, rows[a], pc);
         const double g_b = row_coefficient(view, rows[b], pc);
         s(a, b) = row_coefficient(view, rows[a], level.band_u.target[rows[b]]) -
-                  g_a * g_b * level.band_p_inverse[e];
+                  g_a * g_b * level.band_p_inverse[e] / fill_weight(level, c);
       }
     }
     // S_loc is a principal block of the symmetric negative definite Schur complement.
@@ -500,7 +530,7 @@ std::size_t vector_bytes(const std::vector<T>& v) {
 
 template <int Dim, typename Scalar>
 std::size_t Level<Dim, Scalar>::bytes() const {
-  std::size_t total = vector_bytes(cells);
+  std::size_t total = vector_bytes(cells) + vector_bytes(cell_weight);
   for (int f = 0; f <= Dim; ++f)
     total += vector_bytes(x[f]) + vector_bytes(b[f]) + vector_bytes(r[f]) + vector_bytes(kind[f]) +
              vector_bytes(relaxation[f]);
@@ -520,8 +550,9 @@ template <int Dim, typename Scalar>
 Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType> cells,
                                const Material& material, const BoundaryStress<Dim>& sigma,
                                const std::vector<CellType>* coarse_cells, double inertia,
-                               int band_layers) {
+                               int band_layers, std::vector<double> cell_weight) {
   Level<Dim, Scalar> level;
+  level.cell_weight = std::move(cell_weight);
   level.lattice = lattice;
   level.cells = std::move(cells);
   level.mu = static_cast<Scalar>(material.mu());
@@ -543,7 +574,8 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
   mark_traction_variables(level);
   std::vector<std::uint8_t> pre(Dim * n, 0), post(Dim * n, 0);
   classify_relaxation(level, coarse_cells, pre, post, band_layers);
-  const RowBuilder<Dim> builder(level.lattice, level.cells, material.mu(), sigma, inertia);
+  const RowBuilder<Dim> builder(level.lattice, level.cells, material.mu(), sigma, inertia,
+                                level.cell_weight.empty() ? nullptr : &level.cell_weight);
   build_band_rows(level, builder, pre, post);
   build_band_blocks(level);
   level.blocks = partition_into_blocks(level.lattice);
@@ -564,12 +596,12 @@ void set_dirichlet_values(Level<Dim, Scalar>& level,
   }
 }
 
-#define MGELASTIC_INSTANTIATE(D, S)                                                  \
-  template struct Level<D, S>;                                                       \
-  template Level<D, S> build_level<D, S>(const Lattice<D>&, std::vector<CellType>,   \
-                                         const Material&, const BoundaryStress<D>&,  \
-                                         const std::vector<CellType>*, double, int); \
-  template void set_dirichlet_values<D, S>(Level<D, S>&,                             \
+#define MGELASTIC_INSTANTIATE(D, S)                                                        \
+  template struct Level<D, S>;                                                             \
+  template Level<D, S> build_level<D, S>(                                                  \
+      const Lattice<D>&, std::vector<CellType>, const Material&, const BoundaryStress<D>&, \
+      const std::vector<CellType>*, double, int, std::vector<double>);                     \
+  template void set_dirichlet_values<D, S>(Level<D, S>&,                                   \
                                            const std::function<Vec<D>(const Vec<D>&)>&);
 MGELASTIC_INSTANTIATE(2, float)
 MGELASTIC_INSTANTIATE(2, double)

@@ -83,6 +83,9 @@ struct Level {
   std::vector<CellType> cells;
   Scalar mu = 1, lambda = 0;
   Scalar inertia = 0;  // c of a backward-Euler step: momentum rows read L u - c u (Sec. 8)
+  // Fill weights of the cells (fill_weights.hpp); empty = every body cell full (weight 1).
+  // Rows that touch a partly filled cell are band rows (explicit, weighted).
+  std::vector<double> cell_weight;
   std::array<std::vector<Scalar>, Dim + 1> x, b, r;
   std::array<std::vector<VarKind>, Dim + 1> kind;
   std::array<std::vector<Relaxation>, Dim + 1> relaxation;
@@ -138,12 +141,13 @@ struct Level {
 // level's typing, which defines the Fig. 8 sets. Dirichlet values are not set here. `inertia`
 // is the c of a dynamics step (the same on every level: the equations are force densities and
 // the transfers average, so the coarse term is the consistently scaled one). `band_layers`
-// extra cell layers join the band (MultigridOptions::band_layers).
+// extra cell layers join the band (MultigridOptions::band_layers). `cell_weight` (may be empty)
+// holds the fill weights of a coarse level.
 template <int Dim, typename Scalar>
 Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType> cells,
                                const Material& material, const BoundaryStress<Dim>& sigma,
                                const std::vector<CellType>* coarse_cells, double inertia = 0.0,
-                               int band_layers = 0);
+                               int band_layers = 0, std::vector<double> cell_weight = {});
 
 // Writes prescribed displacements into every Dirichlet variable of the level.
 template <int Dim, typename Scalar>

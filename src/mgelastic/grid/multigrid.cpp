@@ -10,6 +10,7 @@
 #include "mgelastic/grid/boundary_smoother.hpp"
 #include "mgelastic/grid/coarsening.hpp"
 #include "mgelastic/grid/distributive_smoother.hpp"
+#include "mgelastic/grid/fill_weights.hpp"
 #include "mgelastic/grid/problem_validation.hpp"
 #include "mgelastic/grid/residual.hpp"
 #include "mgelastic/grid/transfer.hpp"
@@ -77,10 +78,17 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
   // Cell types of every level first: each level's band depends on the next coarser typing.
   std::vector<Lattice<Dim>> lattices{problem.lattice};
   std::vector<std::vector<CellType>> cells{problem.cells};
+  std::vector<std::vector<double>> weights{{}};
   while (may_coarsen(lattices.back(), cells.back(), lattices.size(), options)) {
     Lattice<Dim> coarse = coarsen(lattices.back());
     std::vector<CellType> coarse_cells = coarsen_cells(lattices.back(), cells.back());
     if (options.repair_coarse_cells) repair_coarse_cells(coarse, coarse_cells);
+    std::vector<double> coarse_weights;
+    if (options.coarse_fill_weights) {
+      coarse_weights =
+          coarse_fill_weights(lattices.back(), cells.back(), weights.back(), coarse, coarse_cells);
+      if (all_full(coarse_weights, coarse_cells)) coarse_weights.clear();
+    }
     // A level made mostly of boundary cells misrepresents a thin body: its traction boundaries
     // sit half a coarse cell inside and its stiffness is far off the finer level's, so its
     // correction of the body's global deformation is poor (docs/embedded-geometry.md).
@@ -89,12 +97,13 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
       break;
     lattices.push_back(std::move(coarse));
     cells.push_back(std::move(coarse_cells));
+    weights.push_back(std::move(coarse_weights));
   }
   // A coarse level that is still singular (a body part not held, or a strain-free mode the
   // repair of coarse typings does not remove) cannot be the coarsest; the hierarchy then stops
   // one level finer, down to a direct solve of the finest level itself.
   while (true) {
-    build_levels(problem, lattices, cells);
+    build_levels(problem, lattices, cells, weights);
     try {
       m_coarse = std::make_unique<CoarseSolver<Dim, Scalar>>(m_levels.back());
       break;
@@ -102,6 +111,7 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
       if (lattices.size() == 1) throw;
       lattices.pop_back();
       cells.pop_back();
+      weights.pop_back();
     }
   }
   constexpr bool mixed = !std::is_same_v<Scalar, double>;
@@ -122,7 +132,8 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
 template <int Dim, typename Scalar>
 void Multigrid<Dim, Scalar>::build_levels(const ElasticityProblem<Dim>& problem,
                                           const std::vector<Lattice<Dim>>& lattices,
-                                          const std::vector<std::vector<CellType>>& cells) {
+                                          const std::vector<std::vector<CellType>>& cells,
+                                          const std::vector<std::vector<double>>& weights) {
   constexpr bool mixed = !std::is_same_v<Scalar, double>;
   m_levels.clear();
   for (std::size_t l = 0; l < lattices.size(); ++l) {
@@ -131,7 +142,7 @@ void Multigrid<Dim, Scalar>::build_levels(const ElasticityProblem<Dim>& problem,
     m_levels.push_back(build_level<Dim, Scalar>(
         lattices[l], cells[l], problem.material,
         finest ? problem.boundary_stress : BoundaryStress<Dim>{},
-        coarsest ? nullptr : &cells[l + 1], problem.inertia, m_options.band_layers));
+        coarsest ? nullptr : &cells[l + 1], problem.inertia, m_options.band_layers, weights[l]));
   }
 }
 

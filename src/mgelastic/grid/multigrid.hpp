@@ -40,6 +40,9 @@ struct MultigridOptions {
   // band). One layer makes the band sweeps reach shallow wedges of embedded bodies (real scans
   // converge much faster) at ~30% more boundary-smoothing time on boxes.
   int band_layers = 0;
+  // Coarse cells' stresses scaled by their fill weights (fill_weights.hpp), so that thin parts
+  // keep their stiffness on coarse levels. false = the paper's unweighted coarse operator.
+  bool coarse_fill_weights = true;
   int max_levels = 0;  // 0 = no limit
 };
 
@@ -115,7 +118,8 @@ class Multigrid {
  private:
   void build_levels(const ElasticityProblem<Dim>& problem,
                     const std::vector<Lattice<Dim>>& lattices,
-                    const std::vector<std::vector<CellType>>& cells);
+                    const std::vector<std::vector<CellType>>& cells,
+                    const std::vector<std::vector<double>>& weights);
   void smooth(int l, bool pre);
   void cycle_correction();
   // Checked replay only (m_monitor set): records level l's residual norm and finiteness.

@@ -33,12 +33,14 @@ NonAugmentedSystem<Dim> assemble_nonaugmented(const Level<Dim, Scalar>& level,
   const auto nu = static_cast<Eigen::Index>(system.u_variables.size());
   const auto np = static_cast<Eigen::Index>(system.p_variables.size());
   const double mu = level.mu, lambda = level.lambda;
-  const RowBuilder<Dim> builder(level.lattice, level.cells, mu, sigma, level.inertia);
+  const RowBuilder<Dim> builder(level.lattice, level.cells, mu, sigma, level.inertia,
+                                level.cell_weight.empty() ? nullptr : &level.cell_weight);
   const auto n = level.size();
   Triplets a, g;
   system.u_constant.setZero(nu);
   system.p_constant.setZero(np);
   system.inverse_pressure_diagonal.setZero(np);
+  system.pressure_weight.setOnes(np);
   for (Eigen::Index row = 0; row < nu; ++row) {
     const std::uint32_t var = system.u_variables[row];
     const ExplicitRow r = builder.momentum(static_cast<int>(var / n), var % n);
@@ -60,13 +62,17 @@ NonAugmentedSystem<Dim> assemble_nonaugmented(const Level<Dim, Scalar>& level,
     for (const RowTerm& t : r.terms)
       if (index[t.variable] < 0) system.p_constant[row] += t.coefficient * level.at(t.variable);
     system.inverse_pressure_diagonal[row] = lambda / (mu * mu + lambda * r.pressure_extra);
+    if (!level.cell_weight.empty())
+      system.pressure_weight[row] = level.cell_weight[system.p_variables[row] % n];
   }
   Eigen::SparseMatrix<double> l_phi(nu, nu);
   l_phi.setFromTriplets(a.begin(), a.end());
   system.coupling.resize(nu, np);
   system.coupling.setFromTriplets(g.begin(), g.end());
   const Eigen::SparseMatrix<double> schur_part =
-      system.coupling * system.inverse_pressure_diagonal.asDiagonal() * system.coupling.transpose();
+      system.coupling *
+      system.inverse_pressure_diagonal.cwiseQuotient(system.pressure_weight).asDiagonal() *
+      system.coupling.transpose();
   system.matrix = -(l_phi - schur_part);
   system.matrix.makeCompressed();
   return system;
@@ -96,8 +102,8 @@ void NonAugmentedSystem<Dim>::scatter(const Eigen::VectorXd& u, Level<Dim, Scala
   Eigen::VectorXd bp(p_variables.size());
   for (std::size_t i = 0; i < p_variables.size(); ++i)
     bp[i] = level.b[Dim][p_variables[i] % level.size()];
-  const Eigen::VectorXd p =
-      inverse_pressure_diagonal.cwiseProduct(bp - p_constant - coupling.transpose() * u);
+  const Eigen::VectorXd p = inverse_pressure_diagonal.cwiseProduct(
+      bp - p_constant - (coupling.transpose() * u).cwiseQuotient(pressure_weight));
   for (std::size_t i = 0; i < p_variables.size(); ++i)
     level.at(p_variables[i]) = static_cast<Scalar>(p[i]);
 }

@@ -15,9 +15,13 @@ namespace mgelastic::grid {
 
 template <int Dim>
 struct NonAugmentedSystem {
-  Eigen::SparseMatrix<double> matrix;                   // A = -S, SPD
-  Eigen::SparseMatrix<double> coupling;                 // G: (u unknowns) x (pressures)
-  Eigen::VectorXd inverse_pressure_diagonal;            // D_p^-1 (zero at lambda = 0)
+  Eigen::SparseMatrix<double> matrix;         // A = -S, SPD
+  Eigen::SparseMatrix<double> coupling;       // G: (u unknowns) x (pressures)
+  Eigen::VectorXd inverse_pressure_diagonal;  // D_p^-1 (zero at lambda = 0)
+  // Fill weight w of each pressure's cell (fill_weights.hpp): `coupling` holds the momentum rows'
+  // pressure coefficients G W, the pressure rows read G^T, so G D_p^-1 G^T above is
+  // coupling (W D_p)^-1 coupling^T. Ones on the finest level.
+  Eigen::VectorXd pressure_weight;
   std::vector<std::uint32_t> u_variables, p_variables;  // global indices on the level
   Eigen::VectorXd u_constant, p_constant;  // boundary stresses and Dirichlet values moved right
 
