@@ -1,5 +1,5 @@
 #pragma once
-// Multigrid for co-rotational linear elasticity (Zhu et al. 2010, Sec. 7): V(1,1) cycles on the
+// Multigrid for co-rotational linear elasticity (Zhu et al. 2010, Sec. 7): V cycles on the
 // quasi-linear system (14) with the per-cell rotations frozen (corotated_operator.hpp), and the
 // outer non-linear iteration that refreshes the rotations every k cycles (the paper: k = 5).
 //
@@ -8,7 +8,8 @@
 // with rotations restricted from the finer level (restrict_rotations), rebuilt at each refresh
 // together with the smoother's blocks and the coarsest LU factor. Smoother: multiplicative box
 // (Vanka) Gauss-Seidel, one block per interior cell = its interior faces and its pressure,
-// forward before and backward after the coarse correction, traction variables back-substituted
+// `sweeps` forward before and backward after the coarse correction (plus `relocation_sweeps`
+// over the blocks of the Fig. 8 relocated-boundary sets), traction variables back-substituted
 // with the co-rotated stress after each sweep. This replaces the paper's distributive smoother
 // with the generalized distribution (15) and its band rows (not built, see docs/grid-engine.md).
 //

@@ -2,7 +2,9 @@
 // Quasi-linear co-rotational operator (Zhu et al. 2010, Sec. 7, Eq. 14) on one level, with the
 // per-cell rotations R frozen, in the engine's displacement form (F = I + G, G = grad u).
 // With the pressure p = -(lambda/mu) tr(R^T F - I) the stress (13) is
-//   P = 2 mu G + 2 mu (I - R) - mu p R,
+//   P = 2 mu G + 2 mu (I - R) - mu p R     (CorotatedStress::PAPER, the paper's form), or, equal
+//   wherever R^T F is symmetric, P = mu (G + R G^T R) + mu (I - R)^2 - mu p R (SYMMETRIZED, the
+//   default: the linear rows at R = I),
 // and the equations, written in divergence form like the band rows (explicit_rows.hpp), are
 //   momentum row of u_i at face k:  sum_j [P_ij(k + e_j/2) - P_ij(k - e_j/2)] / h - c u_i = b
 //   pressure row at cell k:         mu R_ij G_ij + (mu^2/lambda) p - mu (d - tr R)     = b
@@ -12,9 +14,9 @@
 // four surrounding edges whose two u_i faces are interior or Dirichlet variables.
 // Boundary stresses (an exterior cell at the stress location) take their traction value; a
 // traction gradient G_ii in a pressure row is eliminated with P_ii = sigma (as Sec. 5.3).
-// At R = I this is 2 mu Lap u + lambda grad div u, not the linear engine's mu (Lap + grad div)
-// u + lambda grad div u: both agree where grad u is symmetric, which the co-rotational fixed
-// point R = polar(F) guarantees (R^T F symmetric), so `material.model: linear` keeps its rows.
+// PAPER at R = I is 2 mu Lap u + lambda grad div u, not the linear engine's mu (Lap + grad div)
+// u + lambda grad div u (they agree where grad u is symmetric); SYMMETRIZED at R = I is the
+// linear operator. `material.model: linear` never uses these rows.
 //
 // Rows cover every interior variable (u faces and cell pressures): the co-rotated smoother is
 // a box (Vanka) smoother on these rows, not the distributive/band split of the linear engine.
