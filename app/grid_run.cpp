@@ -10,6 +10,7 @@
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/timer.hpp"
 #include "mgelastic/grid/backward_euler.hpp"
+#include "mgelastic/grid/corotated_dynamics.hpp"
 #include "mgelastic/grid/multigrid.hpp"
 #include "mgelastic/grid/node_fields.hpp"
 #include "mgelastic/grid/surface_interpolation.hpp"
@@ -318,6 +319,180 @@ void simulate_dynamic(const scene::Scene& s, const scene::GridSetup& setup,
   std::printf("wrote %s\n", dir.string().c_str());
 }
 
+// Co-rotational model (Sec. 7, `material.model: corotated`): the same runs on the co-rotated
+// multigrid (double precision, box smoother, rotations refreshed every
+// `time.rotation_update_every` cycles). Progress and summary report the true non-linear residual
+// (the convergence test) and the quasi-linear residual of the last frozen system.
+grid::CorotatedOptions corotated_options(const scene::Scene& s) {
+  grid::CorotatedOptions options;
+  options.rotation_update_every = s.time.rotation_update_every;
+  return options;
+}
+
+grid::MultigridOptions multigrid_options(const scene::Scene& s) {
+  grid::MultigridOptions options;
+  options.boundary_sweeps = s.boundary_sweeps;
+  options.band_layers = s.band_layers;
+  options.cycle = s.cycle == "W" ? grid::CycleType::W : grid::CycleType::V;
+  return options;
+}
+
+double reduction(const std::vector<double>& residuals) {
+  return residuals.front() > 0 ? residuals.back() / residuals.front() : 0.0;
+}
+
+void simulate_corotated(const scene::Scene& s, const scene::GridSetup& setup,
+                        const std::filesystem::path& dir, double setup_seconds,
+                        RunCheckpoints& checkpoints) {
+  Timer timer;
+  grid::CorotatedMultigrid<3> solver(setup.problem, multigrid_options(s), corotated_options(s));
+  const double hierarchy_seconds = timer.seconds();
+  auto& mg = solver.linear_hierarchy();
+  std::printf(
+      "hierarchy: %d levels, %zu unknowns (%.2f s); co-rotated model, rotations refreshed every "
+      "%d cycles\n",
+      solver.levels(), solver.unknowns(), hierarchy_seconds, s.time.rotation_update_every);
+  std::vector<io::SeriesEntry> series;
+  if (const io::Checkpoint* resume = checkpoints.resume_from()) {
+    restore_grid(*resume, mg, series);
+    solver.refresh_rotations();
+    std::printf("resumed from %s: frame %d (t = %.6g s) done\n", resume->source.c_str(),
+                resume->frame, resume->time);
+  }
+  Progress progress("frames", s.time.frames);
+  Totals totals;
+  double last_quasi_linear = 0;
+  for (int frame = checkpoints.first_frame(); frame < s.time.frames; ++frame) {
+    const double time = (frame + 1) * s.time.dt;
+    grid::CorotatedReport report;
+    try {
+      if (setup.animated())
+        solver.set_dirichlet_displacement(scene::dirichlet_displacement(setup, time));
+      report = solver.solve(s.tolerance, s.max_vcycles);
+    } catch (const Error& e) {
+      progress.finish();
+      throw frame_failed(e, checkpoints, frame, time);
+    }
+    const double relative = reduction(report.nonlinear);
+    last_quasi_linear = report.quasi_linear.back();
+    totals.cycles += report.cycles();
+    totals.solve_seconds += report.seconds;
+    totals.worst_residual = std::max(totals.worst_residual, relative);
+    char status[200];
+    std::snprintf(status, sizeof status,
+                  "t = %.3f s  %d cycles  relative non-linear residual %.2e (quasi-linear "
+                  "%.2e)%s",
+                  time, report.cycles(), relative, reduction(report.quasi_linear),
+                  report.converged ? "" : " (NOT converged)");
+    if (finish_frame(mg, setup, s, dir, frame, time, status, series, totals, progress, checkpoints,
+                     [&] { return grid_checkpoint(checkpoints, mg, frame, time, series); }))
+      break;
+  }
+  progress.finish();
+  std::printf(
+      "summary: %zu interior + %zu Dirichlet cells (lattice %d x %d x %d, h = %.4g m), %d levels, "
+      "co-rotated model, %d frames, %d cycles, worst relative non-linear residual %.2e, last "
+      "quasi-linear residual %.2e\n"
+      "time: setup %.2f s, hierarchy %.2f s, solve %.2f s, output %.2f s\n",
+      setup.interior_cells, setup.dirichlet_cells, setup.voxels.dims[0], setup.voxels.dims[1],
+      setup.voxels.dims[2], setup.voxels.cell_size, solver.levels(), totals.frames, totals.cycles,
+      totals.worst_residual, last_quasi_linear, setup_seconds, hierarchy_seconds,
+      totals.solve_seconds, totals.output_seconds);
+  if (totals.worst_residual > s.tolerance)
+    std::printf("warning: some frames did not reach the tolerance %.1e within %d cycles\n",
+                s.tolerance, s.max_vcycles);
+  std::printf("wrote %s\n", dir.string().c_str());
+}
+
+void simulate_corotated_dynamic(const scene::Scene& s, const scene::GridSetup& setup,
+                                const std::filesystem::path& dir, double setup_seconds,
+                                RunCheckpoints& checkpoints) {
+  const grid::TimeStepOptions stepping{.dt = s.time.dt / s.time.substeps,
+                                       .density = s.density,
+                                       .damping = s.time.damping,
+                                       .mass_damping = s.time.mass_damping,
+                                       .vcycles_per_step = s.time.vcycles_per_step,
+                                       .tolerance = s.tolerance,
+                                       .max_vcycles = s.max_vcycles};
+  Timer timer;
+  grid::CorotatedBackwardEuler<3> sim(setup.problem, stepping, multigrid_options(s),
+                                      corotated_options(s));
+  const double hierarchy_seconds = timer.seconds();
+  auto& mg = sim.multigrid().linear_hierarchy();
+  std::printf(
+      "hierarchy: %d levels, %zu unknowns (%.2f s); co-rotated model, rotations refreshed every "
+      "%d cycles; backward Euler, step %.4g s (%d per frame)\n",
+      sim.multigrid().levels(), sim.multigrid().unknowns(), hierarchy_seconds,
+      s.time.rotation_update_every, stepping.dt, s.time.substeps);
+  const Eigen::Vector3d v0 = s.initial_velocity;
+  if (v0.squaredNorm() > 0) sim.set_velocity([v0](const grid::Vec<3>&) { return v0; });
+  std::vector<io::SeriesEntry> series;
+  auto checkpoint = [&](int frame) {
+    io::Checkpoint c = grid_checkpoint(checkpoints, mg, frame, sim.time(), series);
+    const auto& v = sim.velocity();
+    for (std::size_t f = 0; f < v.size(); ++f) c.add<double>("grid.v" + std::to_string(f), v[f]);
+    return c;
+  };
+  if (const io::Checkpoint* resume = checkpoints.resume_from()) {
+    restore_grid(*resume, mg, series);
+    auto& v = sim.velocity();
+    for (std::size_t f = 0; f < v.size(); ++f)
+      v[f] =
+          resume->get<double>("grid.v" + std::to_string(f), static_cast<std::int64_t>(v[f].size()));
+    sim.set_time(resume->time);
+    sim.multigrid().refresh_rotations();
+    std::printf("resumed from %s: frame %d (t = %.6g s) done\n", resume->source.c_str(),
+                resume->frame, resume->time);
+  }
+  Progress progress("frames", s.time.frames);
+  Totals totals;
+  int steps = 0;
+  double log_rate_sum = 0, last_quasi_linear = 0;
+  for (int frame = checkpoints.first_frame(); frame < s.time.frames; ++frame) {
+    double frame_worst = 0;
+    for (int sub = 0; sub < s.time.substeps; ++sub) {
+      const double next = sim.time() + stepping.dt;
+      grid::CorotatedReport report;
+      try {
+        report = sim.step(setup.animated() ? scene::dirichlet_displacement(setup, next)
+                                           : grid::CorotatedBackwardEuler<3>::VectorField{});
+      } catch (const Error& e) {
+        progress.finish();
+        throw frame_failed(e, checkpoints, frame, next);
+      }
+      const double relative = reduction(report.nonlinear);
+      last_quasi_linear = report.quasi_linear.back();
+      if (relative > 0 && report.cycles() > 0) {
+        log_rate_sum += std::log(relative) / report.cycles();
+        ++steps;
+      }
+      frame_worst = std::max(frame_worst, relative);
+      totals.cycles += report.cycles();
+      totals.solve_seconds += report.seconds;
+    }
+    totals.worst_residual = std::max(totals.worst_residual, frame_worst);
+    const double time = sim.time();
+    char status[160];
+    std::snprintf(status, sizeof status,
+                  "t = %.3f s  worst step non-linear residual reduction %.2e", time, frame_worst);
+    if (finish_frame(mg, setup, s, dir, frame, time, status, series, totals, progress, checkpoints,
+                     [&] { return checkpoint(frame); }))
+      break;
+  }
+  progress.finish();
+  std::printf(
+      "summary: %zu interior + %zu Dirichlet cells (lattice %d x %d x %d, h = %.4g m), %d levels, "
+      "co-rotated model, %d frames, %d steps, %d cycles, non-linear residual reduction per "
+      "cycle: mean %.3f, worst step %.3f, last quasi-linear residual %.2e\n"
+      "time: setup %.2f s, hierarchy %.2f s, solve %.2f s = %.3f s/frame, output %.2f s\n",
+      setup.interior_cells, setup.dirichlet_cells, setup.voxels.dims[0], setup.voxels.dims[1],
+      setup.voxels.dims[2], setup.voxels.cell_size, sim.multigrid().levels(), totals.frames,
+      totals.frames * s.time.substeps, totals.cycles,
+      steps > 0 ? std::exp(log_rate_sum / steps) : 0.0, totals.worst_residual, last_quasi_linear,
+      setup_seconds, hierarchy_seconds, totals.solve_seconds,
+      totals.frames > 0 ? totals.solve_seconds / totals.frames : 0.0, totals.output_seconds);
+  std::printf("wrote %s\n", dir.string().c_str());
+}
 }  // namespace
 
 void run_grid_scene(const scene::Scene& s, const std::filesystem::path& dir,
@@ -334,7 +509,13 @@ void run_grid_scene(const scene::Scene& s, const std::filesystem::path& dir,
       s.file.c_str(), setup.interior_cells, setup.dirichlet_cells, setup.voxels.dims[0],
       setup.voxels.dims[1], setup.voxels.dims[2], setup.surface.triangle_count(),
       setup.traction_triangles ? " (some under traction)" : "");
-  if (!s.time.quasistatic) {
+  if (s.material_model == "corotated") {
+    if (s.time.quasistatic) {
+      simulate_corotated(s, setup, dir, setup_seconds, checkpoints);
+    } else {
+      simulate_corotated_dynamic(s, setup, dir, setup_seconds, checkpoints);
+    }
+  } else if (!s.time.quasistatic) {
     if (s.precision == "double") {
       simulate_dynamic<double>(s, setup, dir, setup_seconds, checkpoints);
     } else {

@@ -6,8 +6,8 @@
 // (u_i[e] - u_i[e - s_j]) / h at e in {k, k + s_i, k + s_j, k + s_i + s_j}, and is averaged over
 // those whose two faces are active variables (lattice.hpp layout).
 //
-// This is the building block of the quasi-linear system (14); the operator with R in its
-// stencils, the generalized distribution (15) and the rotation-refreshing cycles are not built yet.
+// This is the building block of the quasi-linear system (14): corotated_operator.hpp builds its
+// rows from these rotations, corotated_multigrid.hpp refreshes them every k cycles.
 #include <Eigen/Core>
 #include <vector>
 

@@ -73,6 +73,7 @@ Scene parse_scene(const nlohmann::json& document, const std::string& file,
   s.youngs_modulus = d["material"]["youngs_modulus"];
   s.poisson_ratio = d["material"]["poisson_ratio"];
   s.density = d["material"]["density"];
+  s.material_model = d["material"]["model"];
   for (const auto& m : d["material"]["regions"])
     s.material_regions.push_back(
         {m["region"], m["youngs_modulus"], m["poisson_ratio"], m["density"]});
@@ -85,6 +86,7 @@ Scene parse_scene(const nlohmann::json& document, const std::string& file,
   s.time = {t["dt"],         t["frames"],  t["substeps"],    t["quasistatic"],
             t["integrator"], t["damping"], t["mass_damping"]};
   s.time.vcycles_per_step = t["vcycles_per_step"];
+  s.time.rotation_update_every = t["rotation_update_every"];
   s.initial_velocity = vec3(d["initial"]["velocity"]);
   const nlohmann::json& tet = d["tet"];
   s.tet = {tet["rotation"],       tet["resolution"], tet["linear_solver"], tet["tolerance"],

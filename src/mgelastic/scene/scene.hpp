@@ -22,6 +22,7 @@ struct Scene {
   int resolution = 64;
   int padding = 0;
   double youngs_modulus = 1e5, poisson_ratio = 0.45, density = 1000;
+  std::string material_model = "linear";  // grid engine: "linear" or "corotated"
   struct MaterialRegion {
     nlohmann::json region;
     double youngs_modulus = 1e5, poisson_ratio = 0.45, density = 1000;
@@ -45,7 +46,8 @@ struct Scene {
     bool quasistatic = true;
     std::string integrator = "implicit_euler";
     double damping = 0, mass_damping = 0;
-    int vcycles_per_step = 1;  // grid engine dynamics; 0 = cycle to `tolerance`
+    int vcycles_per_step = 1;       // grid engine dynamics; 0 = cycle to `tolerance`
+    int rotation_update_every = 5;  // grid engine, corotated model
   } time;
   Eigen::Vector3d initial_velocity = Eigen::Vector3d::Zero();
   struct Tet {

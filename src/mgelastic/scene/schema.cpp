@@ -86,6 +86,12 @@ Field build_schema() {
       {number("youngs_modulus", "Young's modulus E", "Pa", 1e5, 0.0, true),
        number("poisson_ratio", "Poisson ratio nu", "", 0.45, 0.0, false, 0.5, true),
        number("density", "Mass density (gravity load)", "kg/m^3", 1000.0, 0.0, true),
+       choice("model",
+              "Grid engine constitutive model: linear elasticity, or co-rotational linear "
+              "elasticity (Sec. 7: stresses in the frame of each cell's rotation, invariant under "
+              "large rotations; double precision, rotations refreshed every "
+              "`time.rotation_update_every` cycles). The tet engine is always co-rotated",
+              "linear", {"linear", "corotated"}),
        array("regions",
              "Heterogeneous bodies (tet engine): later regions override earlier ones and the "
              "material above",
@@ -159,7 +165,12 @@ Field build_schema() {
        integer("vcycles_per_step",
                "Grid engine, dynamic runs: V-cycles per time step, warm-started from the previous "
                "step (Sec. 8); 0 = cycle to `solver.tolerance` (at most `solver.max_vcycles`)",
-               1, 0)});
+               1, 0),
+       integer("rotation_update_every",
+               "Grid engine, `material.model: corotated`: V-cycles between refreshes of the cell "
+               "rotations (quasistatic and dynamic runs; the paper uses 5, 1 converges faster "
+               "far from equilibrium)",
+               5, 1)});
   Field initial = object("initial", "Initial state of dynamic runs",
                          {vector3("velocity", "Uniform initial velocity of the body (grid engine)",
                                   "m/s", nlohmann::json::array({0, 0, 0}))});

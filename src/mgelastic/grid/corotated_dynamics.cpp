@@ -1,0 +1,117 @@
+#include "mgelastic/grid/corotated_dynamics.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "mgelastic/core/error.hpp"
+
+namespace mgelastic::grid {
+namespace {
+
+template <int Dim>
+ElasticityProblem<Dim> with_inertia(ElasticityProblem<Dim> problem, double inertia) {
+  problem.inertia = inertia;
+  return problem;
+}
+
+}  // namespace
+
+template <int Dim>
+CorotatedBackwardEuler<Dim>::CorotatedBackwardEuler(ElasticityProblem<Dim> problem,
+                                                    const TimeStepOptions& options,
+                                                    MultigridOptions multigrid,
+                                                    CorotatedOptions corotated)
+    : m_options((validate(options), options)),
+      m_inertia(backward_euler_inertia(options)),
+      m_multigrid(with_inertia(std::move(problem), m_inertia), multigrid, corotated) {
+  const Level<Dim, double>& level = m_multigrid.solution_level();
+  m_static_rhs = level.b;
+  for (int i = 0; i < Dim; ++i) {
+    m_velocity[i].assign(level.size(), 0.0);
+    m_previous[i].assign(level.size(), 0.0);
+  }
+}
+
+template <int Dim>
+void CorotatedBackwardEuler<Dim>::set_velocity(const VectorField& velocity) {
+  const Level<Dim, double>& level = m_multigrid.solution_level();
+  for (int i = 0; i < Dim; ++i)
+    for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(level.size()); ++k)
+      m_velocity[i][k] = level.kind[i][k] == VarKind::INACTIVE
+                             ? 0.0
+                             : velocity(level.lattice.face_center(i, k))[i];
+}
+
+template <int Dim>
+void CorotatedBackwardEuler<Dim>::assemble_right_hand_side() {
+  Level<Dim, double>& level = m_multigrid.solution_level();
+  const double dt = m_options.dt, gamma = m_options.damping, c = m_inertia;
+  const double beta = 1.0 + gamma / dt;
+  const auto n = static_cast<std::ptrdiff_t>(level.size());
+  if (gamma > 0) {
+    // With b = 0 the non-linear residual is r = -(L u - c u), so L u = c u - r.
+    for (auto& b : level.b) std::fill(b.begin(), b.end(), 0.0);
+    m_multigrid.nonlinear_residual();
+  }
+  for (int i = 0; i < Dim; ++i) {
+    for (std::ptrdiff_t k = 0; k < n; ++k) {
+      if (level.kind[i][k] != VarKind::INTERIOR) {
+        level.b[i][k] = m_static_rhs[i][k];
+        continue;
+      }
+      const double u = level.x[i][k];
+      const double damping_force = gamma > 0 ? (gamma / dt) * (c * u - level.r[i][k]) : 0.0;
+      level.b[i][k] =
+          (m_static_rhs[i][k] + damping_force - (m_options.density / dt) * m_velocity[i][k]) /
+              beta -
+          c * u;
+    }
+  }
+  level.b[Dim] = m_static_rhs[Dim];
+}
+
+template <int Dim>
+CorotatedReport CorotatedBackwardEuler<Dim>::step(const VectorField& dirichlet) {
+  Level<Dim, double>& level = m_multigrid.solution_level();
+  const auto n = static_cast<std::ptrdiff_t>(level.size());
+  const double dt = m_options.dt;
+  assemble_right_hand_side();
+  for (int i = 0; i < Dim; ++i) {
+    m_previous[i] = level.x[i];
+    for (std::ptrdiff_t k = 0; k < n; ++k)
+      if (level.kind[i][k] == VarKind::INTERIOR) level.x[i][k] += dt * m_velocity[i][k];
+  }
+  if (dirichlet) m_multigrid.set_dirichlet_displacement(dirichlet);
+  CorotatedReport report;
+  try {
+    report = m_options.vcycles_per_step > 0
+                 ? m_multigrid.run_cycles(m_options.vcycles_per_step)
+                 : m_multigrid.solve(m_options.tolerance, m_options.max_vcycles);
+  } catch (const Error& e) {
+    std::ostringstream text;
+    text << "the time step from t = " << m_time << " s diverged: " << e.what();
+    throw Error(text.str(), ErrorContext{.pointer = "time"});
+  }
+  for (int i = 0; i < Dim; ++i)
+    for (std::ptrdiff_t k = 0; k < n; ++k)
+      m_velocity[i][k] =
+          level.kind[i][k] == VarKind::INACTIVE ? 0.0 : (level.x[i][k] - m_previous[i][k]) / dt;
+  m_time += dt;
+  return report;
+}
+
+template <int Dim>
+double CorotatedBackwardEuler<Dim>::kinetic_energy() const {
+  const Level<Dim, double>& level = m_multigrid.solution_level();
+  const double volume = std::pow(level.lattice.h, Dim);
+  double sum = 0;
+  for (int i = 0; i < Dim; ++i)
+    for (std::size_t k = 0; k < level.size(); ++k)
+      if (level.kind[i][k] == VarKind::INTERIOR) sum += m_velocity[i][k] * m_velocity[i][k];
+  return 0.5 * m_options.density * volume * sum;
+}
+
+template class CorotatedBackwardEuler<2>;
+template class CorotatedBackwardEuler<3>;
+
+}  // namespace mgelastic::grid

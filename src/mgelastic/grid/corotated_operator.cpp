@@ -1,0 +1,404 @@
+#include "mgelastic/grid/corotated_operator.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+namespace mgelastic::grid {
+namespace {
+
+struct Term {
+  std::uint32_t variable;
+  double coefficient;
+};
+
+struct Row {
+  std::vector<Term> terms;
+  double constant = 0.0;
+  void add(std::uint32_t variable, double coefficient) { terms.push_back({variable, coefficient}); }
+};
+
+template <int Dim>
+class CorotatedRowBuilder {
+ public:
+  CorotatedRowBuilder(const Level<Dim, double>& level, const std::vector<Matrix<Dim>>& rotations,
+                      const BoundaryStress<Dim>& sigma, bool homogeneous,
+                      CorotatedStress form = CorotatedStress::SYMMETRIZED)
+      : m_level(level),
+        m_lat(level.lattice),
+        m_rot(rotations),
+        m_sigma(sigma),
+        m_homogeneous(homogeneous),
+        m_symmetrized(form == CorotatedStress::SYMMETRIZED),
+        m_mu(level.mu),
+        m_inv_h(1.0 / level.lattice.h) {}
+
+  Row momentum(int i, std::ptrdiff_t k) const {
+    Row row;
+    const std::ptrdiff_t si = m_lat.stride(i);
+    add_normal_stress(i, k, m_inv_h, row);
+    add_normal_stress(i, k - si, -m_inv_h, row);
+    for (int j = 0; j < Dim; ++j) {
+      if (j == i) continue;
+      add_shear_stress(i, j, k + m_lat.stride(j), m_inv_h, row);
+      add_shear_stress(i, j, k, -m_inv_h, row);
+    }
+    if (m_level.inertia != 0.0) row.add(u(i, k), -m_level.inertia);
+    return row;
+  }
+
+  Row pressure(std::ptrdiff_t c) const {
+    Row row;
+    const double lambda = m_level.lambda;
+    if (lambda <= 0) {  // incompressibility term absent: p is identically zero
+      row.add(u(Dim, c), 1.0);
+      return row;
+    }
+    const Matrix<Dim>& r = m_rot[c];
+    for (int i = 0; i < Dim; ++i) {
+      const std::ptrdiff_t si = m_lat.stride(i);
+      if (const auto where = traction_face(i, c)) {
+        // mu R_ii G_ii with 2 mu G_ii = sigma - 2 mu (1 - R_ii) + mu R_ii p (P_ii = sigma).
+        row.add(u(Dim, c), 0.5 * m_mu * r(i, i) * r(i, i));
+        if (!m_homogeneous)
+          row.constant += 0.5 * r(i, i) * (sigma(i, i, *where) - 2 * m_mu * (1 - r(i, i)));
+      } else {
+        row.add(u(i, c + si), m_mu * r(i, i) * m_inv_h);
+        row.add(u(i, c), -m_mu * r(i, i) * m_inv_h);
+      }
+      for (int j = 0; j < Dim; ++j) {
+        if (j != i) add_cell_shear_gradient(i, j, c, row);
+      }
+    }
+    row.add(u(Dim, c), m_mu * m_mu / lambda);
+    if (!m_homogeneous) row.constant -= m_mu * (Dim - r.trace());
+    return row;
+  }
+
+  // Interior cells incident to edge (i, j) at e, or none when one of them is exterior.
+  std::optional<std::vector<std::ptrdiff_t>> edge_cells(int i, int j, std::ptrdiff_t e) const {
+    const std::ptrdiff_t si = m_lat.stride(i), sj = m_lat.stride(j);
+    std::vector<std::ptrdiff_t> cells;
+    for (std::ptrdiff_t c : {e, e - si, e - sj, e - si - sj}) {
+      if (m_level.cells[c] == CellType::EXTERIOR) return std::nullopt;
+      if (m_level.cells[c] == CellType::INTERIOR) cells.push_back(c);
+    }
+    return cells;
+  }
+
+ private:
+  std::uint32_t u(int field, std::ptrdiff_t k) const { return m_level.global(field, k); }
+  double sigma(int i, int j, const Vec<Dim>& x) const {
+    return m_sigma && !m_homogeneous ? m_sigma(i, j, x) : 0.0;
+  }
+  bool exterior(std::ptrdiff_t c) const { return m_level.cells[c] == CellType::EXTERIOR; }
+  bool known(int axis, std::ptrdiff_t k) const {
+    const VarKind kind = m_level.kind[axis][k];
+    return kind == VarKind::INTERIOR || kind == VarKind::DIRICHLET;
+  }
+
+  // Where the traction condition fixing P_ii of `cell` holds (explicit_rows.cpp), or none.
+  std::optional<Vec<Dim>> traction_face(int i, std::ptrdiff_t cell) const {
+    const std::ptrdiff_t si = m_lat.stride(i);
+    const bool lower = exterior(cell - si), upper = exterior(cell + si);
+    if (lower && upper) return m_lat.cell_center(cell);
+    if (lower) return m_lat.face_center(i, cell);
+    if (upper) return m_lat.face_center(i, cell + si);
+    return std::nullopt;
+  }
+
+  // weight * P_ii(cell), P_ii = 2 mu G_ii + 2 mu (1 - R_ii) - mu R_ii p.
+  void add_normal_stress(int i, std::ptrdiff_t cell, double weight, Row& row) const {
+    if (const auto where = traction_face(i, cell)) {
+      row.constant += weight * sigma(i, i, *where);
+      return;
+    }
+    if (m_symmetrized) {
+      add_symmetrized_stress(i, i, m_rot[cell], weight, row, [&](int a, int b, double w) {
+        add_cell_gradient(a, b, cell, w, row);
+      });
+      row.add(u(Dim, cell), -weight * m_mu * m_rot[cell](i, i));
+      return;
+    }
+    const double rii = m_rot[cell](i, i);
+    row.add(u(i, cell + m_lat.stride(i)), weight * 2 * m_mu * m_inv_h);
+    row.add(u(i, cell), -weight * 2 * m_mu * m_inv_h);
+    row.add(u(Dim, cell), -weight * m_mu * rii);
+    if (!m_homogeneous) row.constant += weight * 2 * m_mu * (1 - rii);
+  }
+
+  // weight * P_ij(edge), P_ij = 2 mu G_ij - 2 mu <R_ij> - mu <R_ij p> (edge means).
+  void add_shear_stress(int i, int j, std::ptrdiff_t e, double weight, Row& row) const {
+    const auto cells = edge_cells(i, j, e);
+    if (!cells) {
+      row.constant += weight * sigma(i, j, m_lat.edge_center(i, j, e));
+      return;
+    }
+    if (cells->empty()) return;  // an edge between Dirichlet cells only: never a row's stress
+    if (m_symmetrized) {
+      Matrix<Dim> mean = Matrix<Dim>::Zero();
+      for (std::ptrdiff_t c : *cells) mean += m_rot[c];
+      mean /= static_cast<double>(cells->size());
+      add_symmetrized_stress(i, j, mean, weight, row, [&](int a, int b, double w) {
+        add_edge_gradient(a, b, i, j, e, w, row);
+      });
+      const double share = weight / static_cast<double>(cells->size());
+      for (std::ptrdiff_t c : *cells) row.add(u(Dim, c), -share * m_mu * m_rot[c](i, j));
+      return;
+    }
+    row.add(u(i, e), weight * 2 * m_mu * m_inv_h);
+    row.add(u(i, e - m_lat.stride(j)), -weight * 2 * m_mu * m_inv_h);
+    const double share = weight / static_cast<double>(cells->size());
+    for (std::ptrdiff_t c : *cells) {
+      const double rij = m_rot[c](i, j);
+      row.add(u(Dim, c), -share * m_mu * rij);
+      if (!m_homogeneous) row.constant -= share * 2 * m_mu * rij;
+    }
+  }
+
+  // weight * (mu G_ij + mu (R G^T R)_ij + mu ((I - R)^2)_ij), the p-free part of the symmetrized
+  // stress mu R (R^T F + F^T R - 2 I) - mu p R; `gradient(a, b, w)` adds w G_ab at the location.
+  template <typename Gradient>
+  void add_symmetrized_stress(int i, int j, const Matrix<Dim>& r, double weight, Row& row,
+                              const Gradient& gradient) const {
+    for (int a = 0; a < Dim; ++a)
+      for (int b = 0; b < Dim; ++b) {
+        // (R G^T R)_ij = sum_ab R_ia G_ba R_bj.
+        double c = r(i, a) * r(b, j);
+        if (b == i && a == j) c += 1.0;
+        if (c != 0.0) gradient(b, a, weight * m_mu * c);
+      }
+    if (!m_homogeneous) {
+      const Matrix<Dim> d = Matrix<Dim>::Identity() - r;
+      row.constant += weight * m_mu * (d * d)(i, j);
+    }
+  }
+
+  // w G_ab at the center of cell c. A diagonal gradient across a traction face follows from
+  // P_aa = sigma (2 mu G_aa = sigma - 2 mu (1 - R_aa) + mu R_aa p); an off-diagonal one is the
+  // mean over the cell's edges with known faces, or its rigid value R_ab without any.
+  void add_cell_gradient(int a, int b, std::ptrdiff_t c, double w, Row& row) const {
+    const std::ptrdiff_t sa = m_lat.stride(a);
+    if (a == b) {
+      const auto where =
+          m_level.cells[c] == CellType::INTERIOR ? traction_face(a, c) : std::nullopt;
+      if (!where) {
+        row.add(u(a, c + sa), w * m_inv_h);
+        row.add(u(a, c), -w * m_inv_h);
+        return;
+      }
+      const double raa = m_rot[c](a, a);
+      row.add(u(Dim, c), 0.5 * w * raa);
+      if (!m_homogeneous) row.constant += w * (sigma(a, a, *where) / (2 * m_mu) - (1 - raa));
+      return;
+    }
+    const std::ptrdiff_t sb = m_lat.stride(b);
+    std::vector<std::ptrdiff_t> edges;
+    for (std::ptrdiff_t e : {c, c + sa, c + sb, c + sa + sb})
+      if (known(a, e) && known(a, e - sb)) edges.push_back(e);
+    if (edges.empty()) {
+      if (!m_homogeneous) row.constant += w * m_rot[c](a, b);
+      return;
+    }
+    const double share = w * m_inv_h / static_cast<double>(edges.size());
+    for (std::ptrdiff_t e : edges) {
+      row.add(u(a, e), share);
+      row.add(u(a, e - sb), -share);
+    }
+  }
+
+  // w G_ab at the (i, j) edge e (all incident cells non-exterior): natural for {a, b} = {i, j};
+  // diagonal ones averaged over the incident cells; the others (3D, with the third axis t)
+  // averaged over the four (a, b) edges around, those with known faces.
+  void add_edge_gradient(int a, int b, int i, int j, std::ptrdiff_t e, double w, Row& row) const {
+    const std::ptrdiff_t sb = m_lat.stride(b);
+    if (a == b) {
+      const std::ptrdiff_t si = m_lat.stride(i), sj = m_lat.stride(j);
+      const double share = w / 4.0;
+      for (std::ptrdiff_t c : {e, e - si, e - sj, e - si - sj})
+        add_cell_gradient(a, a, c, share, row);
+      return;
+    }
+    if ((a == i && b == j) || (a == j && b == i)) {
+      row.add(u(a, e), w * m_inv_h);
+      row.add(u(a, e - sb), -w * m_inv_h);
+      return;
+    }
+    // {a, b} shares one axis with {i, j}; `other` is the axis of {i, j} not in {a, b}, t the
+    // third axis: move from face to center along `other`... the (a, b) edges at e, e - s_other,
+    // e + s_t, e - s_other + s_t surround the (i, j) edge center.
+    const int other = (a == i || b == i) ? j : i;
+    const int t = 3 - i - j;
+    const std::ptrdiff_t so = m_lat.stride(other), st = m_lat.stride(t);
+    std::vector<std::ptrdiff_t> edges;
+    for (std::ptrdiff_t m : {e, e - so, e + st, e - so + st})
+      if (known(a, m) && known(a, m - sb)) edges.push_back(m);
+    if (edges.empty()) {
+      if (!m_homogeneous) row.constant += w * m_rot[e](a, b);
+      return;
+    }
+    const double share = w * m_inv_h / static_cast<double>(edges.size());
+    for (std::ptrdiff_t m : edges) {
+      row.add(u(a, m), share);
+      row.add(u(a, m - sb), -share);
+    }
+  }
+
+  // mu R_ij(c) <G_ij> over the cell's edges whose two u_i faces are known variables; with none
+  // (one-cell-thin features) G_ij is frozen at its rigid value R_ij.
+  void add_cell_shear_gradient(int i, int j, std::ptrdiff_t c, Row& row) const {
+    const std::ptrdiff_t si = m_lat.stride(i), sj = m_lat.stride(j);
+    const double rij = m_rot[c](i, j);
+    std::vector<std::ptrdiff_t> edges;
+    for (std::ptrdiff_t e : {c, c + si, c + sj, c + si + sj})
+      if (known(i, e) && known(i, e - sj)) edges.push_back(e);
+    if (edges.empty()) {
+      if (!m_homogeneous) row.constant += m_mu * rij * rij;
+      return;
+    }
+    const double w = m_mu * rij * m_inv_h / static_cast<double>(edges.size());
+    for (std::ptrdiff_t e : edges) {
+      row.add(u(i, e), w);
+      row.add(u(i, e - sj), -w);
+    }
+  }
+
+  const Level<Dim, double>& m_level;
+  const Lattice<Dim>& m_lat;
+  const std::vector<Matrix<Dim>>& m_rot;
+  const BoundaryStress<Dim>& m_sigma;
+  bool m_homogeneous, m_symmetrized;
+  double m_mu, m_inv_h;
+};
+
+void append(CorotatedRows& rows, std::uint32_t target, Row row) {
+  std::sort(row.terms.begin(), row.terms.end(),
+            [](const Term& a, const Term& b) { return a.variable < b.variable; });
+  rows.row_of[target] = static_cast<std::int32_t>(rows.rows());
+  rows.target.push_back(target);
+  for (std::size_t t = 0; t < row.terms.size(); ++t) {
+    if (!rows.column.empty() && rows.start.back() < rows.column.size() &&
+        rows.column.back() == row.terms[t].variable) {
+      rows.value.back() += row.terms[t].coefficient;
+      continue;
+    }
+    rows.column.push_back(row.terms[t].variable);
+    rows.value.push_back(row.terms[t].coefficient);
+  }
+  rows.start.push_back(static_cast<std::uint32_t>(rows.column.size()));
+  rows.constant.push_back(row.constant);
+}
+
+}  // namespace
+
+double CorotatedRows::coefficient(std::size_t row, std::uint32_t variable) const {
+  for (std::uint32_t e = start[row]; e < start[row + 1]; ++e)
+    if (column[e] == variable) return value[e];
+  return 0.0;
+}
+
+template <int Dim>
+CorotatedRows build_corotated_rows(const Level<Dim, double>& level,
+                                   const std::vector<Matrix<Dim>>& rotations,
+                                   const BoundaryStress<Dim>& sigma, bool homogeneous,
+                                   CorotatedStress form) {
+  const CorotatedRowBuilder<Dim> builder(level, rotations, sigma, homogeneous, form);
+  const auto n = static_cast<std::ptrdiff_t>(level.size());
+  CorotatedRows rows;
+  rows.row_of.assign((Dim + 1) * n, -1);
+  // Lattice order, all variables of one location together (a front-like Gauss-Seidel order).
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    for (int i = 0; i < Dim; ++i)
+      if (level.kind[i][k] == VarKind::INTERIOR)
+        append(rows, level.global(i, k), builder.momentum(i, k));
+    if (level.kind[Dim][k] == VarKind::INTERIOR)
+      append(rows, level.global(Dim, k), builder.pressure(k));
+  }
+  return rows;
+}
+
+template <int Dim>
+double corotated_residual(Level<Dim, double>& level, const CorotatedRows& rows) {
+  for (auto& field : level.r) std::fill(field.begin(), field.end(), 0.0);
+  const auto count = static_cast<std::ptrdiff_t>(rows.rows());
+  const std::size_t n = level.size();
+  double sum = 0.0;
+  for (std::ptrdiff_t m = 0; m < count; ++m) {
+    double value = rows.constant[m];
+    for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e)
+      value += rows.value[e] * level.at(rows.column[e]);
+    const std::uint32_t t = rows.target[m];
+    const double r = level.b[t / n][t % n] - value;
+    level.r[t / n][t % n] = r;
+    if (t / n < static_cast<std::size_t>(Dim) || level.lambda > 0) sum += r * r;
+  }
+  return std::sqrt(sum);
+}
+
+template <int Dim>
+void corotated_back_substitute(Level<Dim, double>& level, const std::vector<Matrix<Dim>>& rotations,
+                               const BoundaryStress<Dim>& sigma, bool homogeneous) {
+  const auto& lat = level.lattice;
+  const double h = lat.h, mu = level.mu;
+  const std::size_t n = level.size();
+  auto normal_gradient = [&](std::uint32_t cell_global, int i, double s) {
+    const double rii = rotations[cell_global % n](i, i);
+    const double p = level.at(cell_global);
+    return homogeneous ? 0.5 * rii * p : (s - 2 * mu * (1 - rii) + mu * rii * p) / (2 * mu);
+  };
+  for (const auto& rule : level.traction.normal) {
+    const int i = static_cast<int>(rule.face / n);
+    level.at(rule.face) =
+        level.at(rule.partner) + rule.sign * h * normal_gradient(rule.cell, i, rule.sigma);
+  }
+  for (const auto& rule : level.traction.thin) {
+    const int i = static_cast<int>(rule.lower / n);
+    double mean = 0;
+    for (std::uint32_t nb : rule.neighbors) mean += level.at(nb);
+    if (!rule.neighbors.empty()) mean /= static_cast<double>(rule.neighbors.size());
+    const double half_jump = 0.5 * h * normal_gradient(rule.cell, i, rule.sigma);
+    level.at(rule.lower) = mean - half_jump;
+    level.at(rule.upper) = mean + half_jump;
+  }
+  for (const auto& rule : level.traction.shear) {
+    if (rule.candidates.empty()) continue;
+    const int i = static_cast<int>(rule.face / n);
+    double sum = 0;
+    for (const auto& c : rule.candidates) {
+      // P_ij = sigma at the edge between face and partner: G_ij = sigma / (2 mu) + <R_ij> +
+      // <R_ij p> / 2 over the edge's interior cells.
+      const int j = static_cast<int>(c.plus / n);
+      const std::ptrdiff_t edge = c.plus % n;
+      double g = 0;
+      if (!homogeneous && sigma) g += sigma(i, j, lat.edge_center(i, j, edge)) / (2 * mu);
+      const std::ptrdiff_t si = lat.stride(i), sj = lat.stride(j);
+      int count = 0;
+      double rotation = 0, rotated_pressure = 0;
+      for (std::ptrdiff_t cell : {edge, edge - si, edge - sj, edge - si - sj}) {
+        if (level.cells[cell] != CellType::INTERIOR) continue;
+        rotation += rotations[cell](i, j);
+        rotated_pressure += rotations[cell](i, j) * level.x[Dim][cell];
+        ++count;
+      }
+      if (count > 0) {
+        g += 0.5 * rotated_pressure / count;
+        if (!homogeneous) g += rotation / count;
+      }
+      sum += level.at(c.partner) - c.sign * h * g;
+    }
+    level.at(rule.face) = sum / static_cast<double>(rule.candidates.size());
+  }
+}
+
+#define MGELASTIC_INSTANTIATE(D)                                                                   \
+  template CorotatedRows build_corotated_rows<D>(const Level<D, double>&,                          \
+                                                 const std::vector<Matrix<D>>&,                    \
+                                                 const BoundaryStress<D>&, bool, CorotatedStress); \
+  template double corotated_residual<D>(Level<D, double>&, const CorotatedRows&);                  \
+  template void corotated_back_substitute<D>(Level<D, double>&, const std::vector<Matrix<D>>&,     \
+                                             const BoundaryStress<D>&, bool);
+MGELASTIC_INSTANTIATE(2)
+MGELASTIC_INSTANTIATE(3)
+#undef MGELASTIC_INSTANTIATE
+
+}  // namespace mgelastic::grid
