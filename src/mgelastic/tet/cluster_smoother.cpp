@@ -17,8 +17,8 @@ namespace {
   throw Error(reason, ErrorContext{std::string(), -1, "ClusterSmoother"});
 }
 
-// Clusters of a colour below this count are updated serially (fork/join costs more).
-constexpr int kMinParallelClusters = 512;
+// Levels with fewer clusters are swept serially (fork/join and barriers cost more).
+constexpr int kMinParallelClusters = 4096;
 
 // A merged cluster keeps its joint block only when it is this well conditioned.
 constexpr double kMinClusterConditioning = 1e-8;
@@ -28,10 +28,14 @@ int find_root(std::vector<int>& parent, int v) {
   return v;
 }
 
+// Dense cluster blocks and vectors without heap allocation (clusters hold <= 4 vertices).
+using ClusterMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 12, 12>;
+using ClusterVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 12, 1>;
+
 // Diagonal block of the vertices `members` (3|C| x 3|C|).
-Eigen::MatrixXd cluster_block(const BlockRowMatrix<double>& a, const std::vector<int>& members) {
+ClusterMatrix cluster_block(const BlockRowMatrix<double>& a, const std::vector<int>& members) {
   const int size = static_cast<int>(members.size());
-  Eigen::MatrixXd block = Eigen::MatrixXd::Zero(3 * size, 3 * size);
+  ClusterMatrix block = ClusterMatrix::Zero(3 * size, 3 * size);
   for (int p = 0; p < size; ++p)
     for (int q = 0; q < size; ++q) {
       const int k = a.find(members[p], members[q]);
@@ -48,11 +52,10 @@ void dissolve_near_singular(const BlockRowMatrix<double>& a, std::vector<int>& p
   for (int v = 0; v < n; ++v) members[find_root(parent, v)].push_back(v);
   for (int r = 0; r < n; ++r) {
     if (members[r].size() < 2) continue;
-    const Eigen::MatrixXd block = cluster_block(a, members[r]);
-    const Eigen::VectorXd eigenvalues =
-        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(0.5 * (block + block.transpose()),
-                                                       Eigen::EigenvaluesOnly)
-            .eigenvalues();
+    const ClusterMatrix block = cluster_block(a, members[r]);
+    const ClusterVector eigenvalues = Eigen::SelfAdjointEigenSolver<ClusterMatrix>(
+                                          0.5 * (block + block.transpose()), Eigen::EigenvaluesOnly)
+                                          .eigenvalues();
     if (eigenvalues[0] > kMinClusterConditioning * eigenvalues[eigenvalues.size() - 1]) continue;
     for (const int v : members[r]) parent[v] = v;
   }
@@ -144,16 +147,19 @@ void ClusterSmoother::factor(const BlockRowMatrix<double>& a, int level) {
       stored = inverse;
       continue;
     }
-    const Eigen::MatrixXd block = cluster_block(
+    const ClusterMatrix block = cluster_block(
         a, std::vector<int>(m_vertices.begin() + first, m_vertices.begin() + first + size));
-    Eigen::FullPivLU<Eigen::MatrixXd> lu(block);
-    if (!lu.isInvertible()) failed = std::max(failed, c);
+    const Eigen::LLT<ClusterMatrix> llt(block);
+    if (llt.info() != Eigen::Success) {
+      failed = std::max(failed, c);
+      continue;
+    }
     Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-        out, 3 * size, 3 * size) = lu.inverse();
+        out, 3 * size, 3 * size) = llt.solve(ClusterMatrix::Identity(3 * size, 3 * size));
   }
   if (failed >= 0)
-    fail("singular diagonal block of cluster " + std::to_string(failed) + " (vertex " +
-         std::to_string(m_vertices[m_cluster_offsets[failed]]) + ") on level " +
+    fail("singular or indefinite diagonal block of cluster " + std::to_string(failed) +
+         " (vertex " + std::to_string(m_vertices[m_cluster_offsets[failed]]) + ") on level " +
          std::to_string(level));
 }
 
@@ -162,7 +168,7 @@ void ClusterSmoother::update_cluster(const BlockRowMatrix<double>& a, int c,
   const int first = m_cluster_offsets[c], size = m_cluster_offsets[c + 1] - first;
   const double* inverse = m_inverses.data() + m_inverse_offsets[c];
   // Residual of the cluster's rows; the cluster's own blocks are included, hence the "+=".
-  Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 12, 1> r(3 * size);
+  ClusterVector r(3 * size);
   for (int p = 0; p < size; ++p) {
     const int i = m_vertices[first + p];
     Eigen::Vector3d ri = b.segment<3>(3 * i);
@@ -176,7 +182,7 @@ void ClusterSmoother::update_cluster(const BlockRowMatrix<double>& a, int c,
         w * (Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(inverse) * r.head<3>());
     return;
   }
-  const Eigen::VectorXd dx =
+  const ClusterVector dx =
       Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
           inverse, 3 * size, 3 * size) *
       r;
@@ -187,11 +193,13 @@ void ClusterSmoother::update_cluster(const BlockRowMatrix<double>& a, int c,
 void ClusterSmoother::sweep(const BlockRowMatrix<double>& a, const Eigen::VectorXd& b,
                             Eigen::VectorXd& x, bool forward, double w) const {
   const int colors = color_count();
+  // One parallel region per sweep, a barrier after each colour (the next colour reads its x).
+#pragma omp parallel if (cluster_count() >= kMinParallelClusters)
   for (int step = 0; step < colors; ++step) {
     const int k = forward ? step : colors - 1 - step;
-    const int begin = m_color_offsets[k], end = m_color_offsets[k + 1];
-#pragma omp parallel for schedule(static) if (end - begin >= kMinParallelClusters)
-    for (int m = begin; m < end; ++m) update_cluster(a, m_order[m], b, x, w);
+#pragma omp for schedule(static)
+    for (int m = m_color_offsets[k]; m < m_color_offsets[k + 1]; ++m)
+      update_cluster(a, m_order[m], b, x, w);
   }
 }
 
