@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 
+#include "mgelastic/core/error.hpp"
 #include "mgelastic/core/threads.hpp"
 #include "mgelastic/tet/cluster_smoother.hpp"
 #include "mgelastic/tet/corotated_assembly.hpp"
@@ -70,6 +71,13 @@ TEST(ClusterSmoother, StronglyCoupledPairIsSolvedTogether) {
   points.sweep(a, b, x, true, 1.0);
   a.multiply(x, r);
   EXPECT_GT((b - r).norm(), 0.1 * b.norm());
+}
+
+TEST(ClusterSmoother, RejectsClustersLargerThanFourVertices) {
+  const BlockRowMatrix<double> a = box_step_matrix(0.25);
+  ClusterSmoother smoother;
+  EXPECT_THROW(smoother.build(a, {0.3, 5}), Error);
+  EXPECT_THROW(smoother.build(a, {0.3, 0}), Error);
 }
 
 TEST(ClusterSmoother, ClustersOfOneColourShareNoBlock) {

@@ -28,9 +28,11 @@ int find_root(std::vector<int>& parent, int v) {
   return v;
 }
 
-// Dense cluster blocks and vectors without heap allocation (clusters hold <= 4 vertices).
-using ClusterMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 12, 12>;
-using ClusterVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 12, 1>;
+// Dense cluster blocks and vectors without heap allocation.
+constexpr int kMaxClusterSize = 4;
+using ClusterMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3 * kMaxClusterSize,
+                                    3 * kMaxClusterSize>;
+using ClusterVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3 * kMaxClusterSize, 1>;
 
 // Diagonal block of the vertices `members` (3|C| x 3|C|).
 ClusterMatrix cluster_block(const BlockRowMatrix<double>& a, const std::vector<int>& members) {
@@ -65,6 +67,9 @@ void dissolve_near_singular(const BlockRowMatrix<double>& a, std::vector<int>& p
 
 void ClusterSmoother::build(const BlockRowMatrix<double>& a,
                             const ClusterSmootherSettings& settings) {
+  if (settings.max_cluster_size < 1 || settings.max_cluster_size > kMaxClusterSize)
+    fail("max_cluster_size must be 1.." + std::to_string(kMaxClusterSize) + " (got " +
+         std::to_string(settings.max_cluster_size) + ")");
   const int n = a.block_rows();
   // Strong neighbour pairs, strongest first.
   std::vector<std::tuple<double, int, int>> strong;

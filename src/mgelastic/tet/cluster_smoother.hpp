@@ -27,13 +27,14 @@ namespace mgelastic::tet {
 
 struct ClusterSmootherSettings {
   double strong_coupling = 0.3;  // s_ij above which neighbours are merged; > 1 disables
-  int max_cluster_size = 4;      // vertices per cluster
+  int max_cluster_size = 4;      // vertices per cluster, 1..4 (1 = point-block Gauss-Seidel)
 };
 
 class ClusterSmoother {
  public:
   ClusterSmoother() = default;
-  // Clusters and colours from `a`'s values and pattern.
+  // Clusters and colours from `a`'s values and pattern; throws Error for a max_cluster_size
+  // outside 1..4.
   void build(const BlockRowMatrix<double>& a, const ClusterSmootherSettings& settings);
   // Inverse diagonal cluster blocks of `a` (same pattern as at build). Throws Error naming the
   // level and cluster when a block is not invertible.
