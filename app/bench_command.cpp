@@ -271,10 +271,21 @@ struct TetStepOptions {
   std::vector<int> cells{8, 11, 14};
   std::vector<std::string> meshes;
   int refine = 0, steps = 5, threads = 0, coarsest = 300, vcycles = 1;
-  double tolerance = 1e-6, cell_factor = 2.0;
+  double tolerance = 1e-6, cell_factor = 1.587;
   std::string rotation = "energy";
-  bool symmetric = false, json = false;
+  bool symmetric = false, json = false, hypre = false, lexicographic = false;
 };
+
+// hypre BoomerAMG-PCG (grid/hypre_baseline.hpp) on a tet step matrix (unknowns vertex-major).
+tet::ExternalSolveResult tet_boomeramg(const Eigen::SparseMatrix<double, Eigen::RowMajor>& a,
+                                       const Eigen::VectorXd& b, double tolerance) {
+  std::vector<int> component(b.size());
+  for (Eigen::Index i = 0; i < b.size(); ++i) component[i] = static_cast<int>(i % 3);
+  Eigen::VectorXd x;
+  const grid::HypreReport report = grid::boomeramg_pcg(a, b, component, 3, tolerance, 2000, x);
+  return {report.available, report.iterations, report.setup_seconds, report.solve_seconds,
+          report.converged};
+}
 
 void run_tet_step(const TetStepOptions& o) {
   for (const int n : o.cells)
@@ -293,6 +304,8 @@ void run_tet_step(const TetStepOptions& o) {
   base.multigrid.hierarchy.max_coarsest_vertices = o.coarsest;
   base.multigrid.hierarchy.first_cell_factor = o.cell_factor;
   base.multigrid.symmetric_sweeps = o.symmetric;
+  base.multigrid.lexicographic = o.lexicographic;
+  if (o.hypre) base.external_solver = tet_boomeramg;
   base.rotation = o.rotation == "polar"            ? tet::RotationMethod::POLAR
                   : o.rotation == "smoothed_polar" ? tet::RotationMethod::POLAR_SMOOTHED
                                                    : tet::RotationMethod::ENERGY_MINIMIZATION;
@@ -308,11 +321,11 @@ void run_tet_step(const TetStepOptions& o) {
   nlohmann::json rows = nlohmann::json::array();
   if (!o.json)
     std::printf(
-        "%7s %6s %11s | %6s %6s | %6s %6s | %5s %5s %6s | %6s %6s | %6s %6s | %5s %8s | %9s %9s "
-        "%9s | %5s\n",
+        "%7s %6s %11s | %6s %6s | %6s %6s | %5s %5s %6s | %6s %6s %6s | %6s %6s | %5s %8s | %9s "
+        "%9s %9s | %14s | %5s\n",
         "tets", "verts", "coarsest", "rotate", "assem", "naive", "stream", "A0", "chol", "solve",
-        "step", "steps/s", "BJ st/s", "MB", "rate", "step res", "BJ-PCG", "MG-PCG", "V to tol",
-        "setup");
+        "step", "cpu", "steps/s", "BJ st/s", "MB", "rate", "step res", "BJ-PCG", "MG-PCG",
+        "V to tol", "AMG-PCG set+sol", "setup");
   for (const tet::TetStepBenchmarkOptions& run : runs) {
     const tet::TetStepBenchmark r = tet::run_tet_step_benchmark(run);
     rows.push_back({{"mesh", r.mesh},
@@ -333,6 +346,15 @@ void run_tet_step(const TetStepOptions& o) {
                     {"factor_seconds", r.factor_seconds},
                     {"solve_seconds", r.solve_seconds},
                     {"step_seconds", r.step_seconds},
+                    {"step_cpu_seconds", r.step_cpu_seconds},
+                    {"smoother_colors", r.smoother_colors},
+                    {"smoother_clustered_vertices", r.smoother_clustered_vertices},
+                    {"lexicographic_smoother", o.lexicographic},
+                    {"boomeramg_available", r.external.available},
+                    {"boomeramg_setup_seconds", r.external.setup_seconds},
+                    {"boomeramg_solve_seconds", r.external.solve_seconds},
+                    {"boomeramg_iterations", r.external.iterations},
+                    {"boomeramg_converged", r.external.converged},
                     {"step_residual", r.step_residual},
                     {"mg_pcg_seconds", r.mg_pcg_seconds},
                     {"mg_pcg_iterations", r.mg_pcg_iterations},
@@ -347,17 +369,21 @@ void run_tet_step(const TetStepOptions& o) {
     if (!o.json) {
       const std::string coarsest =
           std::to_string(r.levels) + " lv/" + std::to_string(r.level_vertices.back());
+      char amg[64] = "-";
+      if (r.external.available)
+        std::snprintf(amg, sizeof amg, "%.0f+%.0f (%d)", 1e3 * r.external.setup_seconds,
+                      1e3 * r.external.solve_seconds, r.external.iterations);
       std::printf(
-          "%7d %6d %11s | %6.1f %6.1f | %6.1f %6.1f | %5.1f %5.1f %6.1f | %6.1f %6.1f | %6.1f "
-          "%6.1f | %5.2f %8.1e | %4.0f %4.0f %4.0f %4.0f %4.0f %4.0f | %5.1f  %s\n",
+          "%7d %6d %11s | %6.1f %6.1f | %6.1f %6.1f | %5.1f %5.1f %6.1f | %6.1f %6.1f %6.1f | "
+          "%6.1f %6.1f | %5.2f %8.1e | %4.0f %4.0f %4.0f %4.0f %4.0f %4.0f | %14s | %5.1f  %s\n",
           r.tets, r.vertices, coarsest.c_str(), 1e3 * r.rotate_seconds, 1e3 * r.assemble_seconds,
           1e3 * r.galerkin_naive_seconds, 1e3 * r.galerkin_stream_seconds,
           1e3 * r.fine_operator_seconds, 1e3 * r.factor_seconds, 1e3 * r.solve_seconds,
-          1e3 * r.step_seconds, r.steps_per_second, r.baseline_steps_per_second,
-          r.stream_bytes / 1e6, r.vcycle_rate, r.step_residual, 1e3 * r.baseline_pcg_seconds,
-          r.baseline_pcg_iterations, 1e3 * r.mg_pcg_seconds, r.mg_pcg_iterations,
-          1e3 * r.vcycles_to_tolerance_seconds, r.vcycles_to_tolerance, r.setup_seconds,
-          r.mesh.c_str());
+          1e3 * r.step_seconds, 1e3 * r.step_cpu_seconds, r.steps_per_second,
+          r.baseline_steps_per_second, r.stream_bytes / 1e6, r.vcycle_rate, r.step_residual,
+          1e3 * r.baseline_pcg_seconds, r.baseline_pcg_iterations, 1e3 * r.mg_pcg_seconds,
+          r.mg_pcg_iterations, 1e3 * r.vcycles_to_tolerance_seconds, r.vcycles_to_tolerance, amg,
+          r.setup_seconds, r.mesh.c_str());
       std::fflush(stdout);
     }
   }
@@ -427,6 +453,11 @@ void register_bench_commands(CLI::App& app) {
                        "Coarsen until a level has <= this many vertices");
   tet_step->add_option("--cell-factor", tet_options.cell_factor,
                        "First coarse cube size / mean fine edge length");
+  tet_step->add_flag("--hypre", tet_options.hypre,
+                     "Also solve the last step matrix with hypre BoomerAMG-PCG (when built with it)");
+  tet_step->add_flag("--lexicographic", tet_options.lexicographic,
+                     "Serial point-block Gauss-Seidel in vertex order instead of the multicolour "
+                     "cluster smoother");
   tet_step->add_flag("--json", tet_options.json, "Print JSON instead of a table");
   tet_step->callback([] {
     if (tet_options.threads > 0) set_thread_count(tet_options.threads);

@@ -32,12 +32,31 @@ TEST(TetHierarchy, LevelsDoubleCubeSizeAndStopAtTheCoarsestLimit) {
   settings.max_coarsest_vertices = 100;
   const TetHierarchy hierarchy(mesh, {}, settings);
   ASSERT_GE(hierarchy.level_count(), 3);
-  EXPECT_NEAR(hierarchy.cell_size(1), 2.0 * mean_edge_length(mesh), 1e-12);
+  EXPECT_NEAR(hierarchy.cell_size(1), settings.first_cell_factor * mean_edge_length(mesh), 1e-12);
   for (int l = 2; l < hierarchy.level_count(); ++l)
     EXPECT_DOUBLE_EQ(hierarchy.cell_size(l), 2.0 * hierarchy.cell_size(l - 1));
   const int last = hierarchy.level_count() - 1;
   EXPECT_LE(hierarchy.vertex_count(last), 100);
   EXPECT_GT(hierarchy.vertex_count(last - 1), 100);
+}
+
+// Restriction by the stored transpose (parallel gather) and by the serial scatter both equal
+// P^T r.
+TEST(TetHierarchy, RestrictionGatherEqualsTheTransposedProlongation) {
+  const geometry::TetMesh mesh = jittered_bar(1.0 / 24, 8);
+  const TetHierarchy hierarchy(mesh, {}, {});
+  Prolongation scatter = hierarchy.prolongation(0);
+  ASSERT_FALSE(scatter.transpose_offsets.empty());
+  scatter.transpose_offsets.clear();
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  Eigen::VectorXd r(3 * mesh.vertex_count()), gathered, scattered;
+  for (int i = 0; i < r.size(); ++i) r[i] = uniform(rng);
+  hierarchy.prolongation(0).restrict_to(r, gathered);
+  scatter.restrict_to(r, scattered);
+  const Eigen::VectorXd reference = hierarchy.prolongation(0).to_sparse().transpose() * r;
+  EXPECT_LE((gathered - reference).norm(), 1e-13 * reference.norm());
+  EXPECT_LE((scattered - reference).norm(), 1e-13 * reference.norm());
 }
 
 TEST(TetHierarchy, ProlongationIsAPartitionOfUnityReproducingLinearFields) {

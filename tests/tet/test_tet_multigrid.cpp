@@ -1,6 +1,8 @@
 // V-cycle and MG-preconditioned CG on the implicit step system (M + h^2 K~) (tet_multigrid.hpp).
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -16,17 +18,18 @@
 namespace mgelastic::tet {
 namespace {
 
-// The issue asks for a residual reduction <= 0.3 per V-cycle. The paper's V(1,1) (one block
-// Gauss-Seidel sweep each side) does not reach it here: measured 0.59-0.61 on the stiff twisted
-// bars, 0.71 on the bunny (docs/tet-engine.md, Multigrid). These bounds are the measured rates
-// plus a margin of ~0.04, so a regression shows; the 0.3 target is asserted for the V-cycle used
-// as CG preconditioner (mean reduction per MG-PCG iteration) on the bar; the bunny's MG-PCG
-// reduction is 0.36 (bound 0.40).
+// The issue asks for a residual reduction <= 0.3 per V-cycle. Measured with the multicolour
+// cluster smoother (docs/tet-engine.md, Multigrid): the paper's V(1,1) (one sweep each side)
+// gives 0.59-0.62 on the stiff twisted bars, 0.48 on the bunny, 0.37 on the armadillo; with
+// symmetric sweeps (forward + backward each side) 0.40-0.42 on the bars, 0.27 on the bunny, 0.10
+// on the armadillo. Bounds are the measured rates plus a margin of ~0.04, so a regression shows;
+// 0.3 itself is asserted where it is reached (symmetric sweeps on bunny and armadillo).
 constexpr double kBarVCycleRate = 0.65;
-constexpr double kBunnyVCycleRate = 0.75;
+constexpr double kBarSymmetricRate = 0.46;
+constexpr double kBunnyVCycleRate = 0.52;
 constexpr double kIssueRate = 0.3;
-constexpr double kBunnyPcgRate = 0.40;
-constexpr double kArmadilloVCycleRate = 0.46;
+constexpr double kBunnyPcgRate = 0.22;
+constexpr double kArmadilloVCycleRate = 0.41;
 // Resolution independence over three refinements: the issue's +0.05.
 constexpr double kRateSpread = 0.05;
 // A_0 assembled by the multigrid vs StepSystem: same sums, round-off only.
@@ -165,20 +168,28 @@ TEST(TetMultigrid, CycleFromZeroIsASymmetricOperator) {
   }
 }
 
+// The bars of `mgelastic bench tet-step` (12 288 / 31 944 / 65 856 tets, 3 levels each).
 TEST(TetMultigrid, RateIsIndependentOfResolution) {
-  std::vector<double> rates;
-  for (const int cells : {4, 6, 8}) {
+  std::vector<double> single, symmetric;
+  TetMultigridSettings symmetric_settings;
+  symmetric_settings.symmetric_sweeps = true;
+  for (const int cells : {8, 11, 14}) {
     const StepProblem problem = twisted_bar(0.25 / cells);
-    TetMultigridSettings settings;
-    settings.hierarchy.max_coarsest_vertices = 200;  // so that every size gets >= 2 coarse levels
-    const TetMultigrid mg = step_multigrid(problem, settings);
-    rates.push_back(vcycle_rate(mg, problem.fixed, 3));
+    const TetMultigrid mg = step_multigrid(problem),
+                       mg_symmetric = step_multigrid(problem, symmetric_settings);
+    single.push_back(vcycle_rate(mg, problem.fixed, 3));
+    symmetric.push_back(vcycle_rate(mg_symmetric, problem.fixed, 3));
     std::cout << "[ rate ] " << problem.mesh.tet_count() << " tets, " << mg.level_count()
-              << " levels: " << rates.back() << "\n";
-    EXPECT_LE(rates.back(), kBarVCycleRate);
+              << " levels: V(1,1) " << single.back() << ", symmetric sweeps " << symmetric.back()
+              << "\n";
+    EXPECT_GE(mg.level_count(), 3);
+    EXPECT_LE(single.back(), kBarVCycleRate);
+    EXPECT_LE(symmetric.back(), kBarSymmetricRate);
   }
-  const double spread = *std::max_element(rates.begin(), rates.end()) - rates.front();
-  EXPECT_LE(spread, kRateSpread);
+  for (const std::vector<double>* rates : {&single, &symmetric})
+    EXPECT_LE(*std::max_element(rates->begin(), rates->end()) -
+                  *std::min_element(rates->begin(), rates->end()),
+              kRateSpread);
 }
 
 TEST(TetMultigrid, SolvesToToleranceAndPreconditionsCg) {
@@ -241,9 +252,8 @@ StepProblem sagging_mesh(const std::string& file) {
   return problem;
 }
 
-// The issue's <= 0.3 per V-cycle on the armadillo (54 985 tets, 4 levels down to ~200 vertices):
-// reached with symmetric Gauss-Seidel sweeps (forward + backward as each smoothing step; measured
-// 0.21); the paper's single sweeps give 0.42 (bound 0.46).
+// The issue's <= 0.3 per V-cycle on the armadillo (54 985 tets, 4 levels down to ~300 vertices):
+// reached with symmetric sweeps (measured 0.10); the paper's single sweeps give 0.37.
 TEST(TetMultigrid, VCycleRateOnArmadillo) {
   const StepProblem problem = sagging_mesh("armadillo_13k.msh");
   if (problem.mesh.tet_count() == 0) GTEST_SKIP() << "MGELASTIC_DATA_DIR not set";
@@ -289,11 +299,18 @@ TEST(TetMultigrid, VCycleRateOnBunny) {
   problem.solver->set_dirichlet(dirichlet);
   for (int i = 0; i < 3; ++i) problem.solver->step();
   const TetMultigrid mg = step_multigrid(problem);
+  TetMultigridSettings symmetric;
+  symmetric.symmetric_sweeps = true;
+  const TetMultigrid symmetric_mg = step_multigrid(problem, symmetric);
   const double rate = vcycle_rate(mg, problem.fixed, 5);
+  const double symmetric_rate = vcycle_rate(symmetric_mg, problem.fixed, 5);
   const double pcg_rate = mg_pcg_rate(mg, problem.fixed, 5);
   std::cout << "[ rate ] bunny " << problem.mesh.tet_count() << " tets, " << mg.level_count()
-            << " levels: " << rate << " per V-cycle, " << pcg_rate << " per MG-PCG iteration\n";
+            << " levels: V(1,1) " << rate << ", symmetric sweeps " << symmetric_rate
+            << " per V-cycle, " << pcg_rate << " per MG-PCG iteration\n";
+  EXPECT_GE(mg.level_count(), 3);
   EXPECT_LE(rate, kBunnyVCycleRate);
+  EXPECT_LE(symmetric_rate, kIssueRate);
   EXPECT_LE(pcg_rate, kBunnyPcgRate);
 }
 
@@ -342,11 +359,14 @@ TEST(TetMultigridDiagnostics, DISABLED_Explore) {
     for (int i = 0; i < 3; ++i) problem.solver->step();
   }
   TetMultigridSettings settings;
-  settings.hierarchy.first_cell_factor = env_or("MG_FACTOR", 2.0);
-  settings.hierarchy.max_coarsest_vertices = static_cast<int>(env_or("MG_COARSEST", 2000));
+  settings.hierarchy.first_cell_factor = env_or("MG_FACTOR", 1.587);
+  settings.hierarchy.max_coarsest_vertices = static_cast<int>(env_or("MG_COARSEST", 400));
   settings.pre_smoothing = settings.post_smoothing = static_cast<int>(env_or("MG_SWEEPS", 1));
   settings.symmetric_sweeps = env_or("MG_SYM", 0) != 0;
   settings.relaxation = env_or("MG_OMEGA", 1.0);
+  settings.lexicographic = env_or("MG_LEX", 0) != 0;
+  settings.smoother.strong_coupling = env_or("MG_STRONG", 0.3);
+  settings.smoother.max_cluster_size = static_cast<int>(env_or("MG_CLUSTER", 4));
   std::vector<double> edges;
   for (int t = 0; t < problem.mesh.tet_count(); ++t) {
     const Eigen::Matrix<double, 3, 4> c = problem.mesh.corners(t);
@@ -361,6 +381,11 @@ TEST(TetMultigridDiagnostics, DISABLED_Explore) {
   std::cout << problem.mesh.tet_count() << " tets, levels:";
   for (int l = 0; l < mg.level_count(); ++l) std::cout << " " << mg.hierarchy().vertex_count(l);
   std::cout << "\n";
+  if (!settings.lexicographic)
+    for (int l = 0; l + 1 < mg.level_count(); ++l)
+      std::cout << "smoother level " << l << ": " << mg.smoother(l).color_count() << " colours, "
+                << mg.smoother(l).clustered_vertices() << " vertices in clusters (largest "
+                << mg.smoother(l).largest_cluster() << ")\n";
   std::mt19937 rng(7);
   std::normal_distribution<double> normal;
   Eigen::VectorXd b(3 * problem.mesh.vertex_count()), x = Eigen::VectorXd::Zero(b.size());
@@ -372,6 +397,120 @@ TEST(TetMultigridDiagnostics, DISABLED_Explore) {
               << " corrected " << trace[l].corrected << " post " << trace[l].post_smoothed << "\n";
   std::cout << "rate " << vcycle_rate(mg, problem.fixed, 1) << " pcg "
             << mg_pcg_rate(mg, problem.fixed, 1) << "\n";
+}
+
+}  // namespace
+}  // namespace mgelastic::tet
+
+namespace mgelastic::tet {
+namespace {
+
+// Diagnostics: the slowest error mode of the V-cycle (power iteration on e <- (I - B A) e, b = 0)
+// and where it lives. MG_MESH as in Explore (file only).
+TEST(TetMultigridDiagnostics, DISABLED_SlowMode) {
+  StepProblem problem;
+  problem.mesh = geometry::read_tet_mesh(std::getenv("MG_MESH"));
+  const double low = problem.mesh.vertices.col(1).minCoeff();
+  const double extent = problem.mesh.vertices.col(1).maxCoeff() - low;
+  std::vector<int> dirichlet;
+  problem.fixed.assign(problem.mesh.vertex_count(), 0);
+  for (int v = 0; v < problem.mesh.vertex_count(); ++v)
+    if (problem.mesh.vertices(v, 1) < low + 0.1 * extent) {
+      dirichlet.push_back(v);
+      problem.fixed[v] = 1;
+    }
+  CorotatedSolverSettings cs;
+  cs.time_step = kStep;
+  cs.gravity = Eigen::Vector3d(0, -9.81, 0);
+  cs.linear_solver = LinearSolver::CHOLESKY;
+  problem.solver = std::make_unique<CorotatedSolver>(
+      problem.mesh,
+      ElementMaterials::uniform(problem.mesh.tet_count(),
+                                {env_or("MG_E", 1e4) * extent, 0.3, 1000.0}),
+      cs);
+  problem.solver->set_dirichlet(dirichlet);
+  for (int i = 0; i < 3; ++i) problem.solver->step();
+  TetMultigridSettings settings;
+  settings.hierarchy.first_cell_factor = env_or("MG_FACTOR", 1.587);
+  settings.hierarchy.max_coarsest_vertices = static_cast<int>(env_or("MG_COARSEST", 400));
+  settings.pre_smoothing = settings.post_smoothing = static_cast<int>(env_or("MG_SWEEPS", 1));
+  settings.symmetric_sweeps = env_or("MG_SYM", 0) != 0;
+  settings.lexicographic = env_or("MG_LEX", 0) != 0;
+  settings.smoother.strong_coupling = env_or("MG_STRONG", 0.3);
+  settings.smoother.max_cluster_size = static_cast<int>(env_or("MG_CLUSTER", 4));
+  const TetMultigrid mg = step_multigrid(problem, settings);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> normal;
+  const int n = problem.mesh.vertex_count();
+  Eigen::VectorXd e(3 * n), zero = Eigen::VectorXd::Zero(3 * n), ae;
+  for (int i = 0; i < e.size(); ++i) e[i] = problem.fixed[i / 3] != 0 ? 0.0 : normal(rng);
+  const auto energy = [&](const Eigen::VectorXd& v) {
+    mg.level_matrix(0).multiply(v, ae);
+    return std::sqrt(v.dot(ae));
+  };
+  double ratio = 0.0;
+  for (int it = 0; it < 40; ++it) {
+    const double before = energy(e);
+    mg.cycle(zero, e);
+    ratio = energy(e) / before;
+    e /= energy(e);
+  }
+  std::cout << "energy-norm contraction of the slowest mode " << ratio << "\n";
+  // Where it lives: share of |e|^2 per height decile, and the top vertices.
+  std::vector<double> share(10, 0.0);
+  std::vector<std::pair<double, int>> top;
+  for (int v = 0; v < n; ++v) {
+    const double m = e.segment<3>(3 * v).squaredNorm();
+    const int d = std::min(9, static_cast<int>(10 * (problem.mesh.vertices(v, 1) - low) / extent));
+    share[d] += m;
+    top.emplace_back(m, v);
+  }
+  const double total = e.squaredNorm();
+  std::cout << "height decile share:";
+  for (double s : share) std::cout << " " << s / total;
+  std::cout << "\nbbox min " << problem.mesh.vertices.colwise().minCoeff() << " max "
+            << problem.mesh.vertices.colwise().maxCoeff() << "\n";
+  std::sort(top.rbegin(), top.rend());
+  double acc = 0.0;
+  int count = 0;
+  while (acc < 0.5 * total) acc += top[count++].first;
+  std::cout << count << " of " << n << " vertices hold half of |e|^2; top 8:\n";
+  for (int k = 0; k < 8; ++k)
+    std::cout << "  v" << top[k].second << " " << problem.mesh.vertices.row(top[k].second) << " e "
+              << e.segment<3>(3 * top[k].second).transpose() << "\n";
+  // Neighbourhood of the top vertex: incident tets (quality 6V / l_max^3), fixed neighbours,
+  // diagonal block eigenvalues and couplings, prolongation row.
+  const int v0 = top[0].second;
+  const BlockRowMatrix<double>& a0 = mg.level_matrix(0);
+  for (int k = a0.row_offsets()[v0]; k < a0.row_offsets()[v0 + 1]; ++k) {
+    const int j = a0.block_columns()[k];
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(0.5 *
+                                                       (a0.block(k) + a0.block(k).transpose()));
+    std::cout << "  A(" << v0 << "," << j << ") fixed " << int(problem.fixed[j]) << " |A| "
+              << a0.block(k).norm() << " sym eig " << eig.eigenvalues().transpose() << " |e_j| "
+              << e.segment<3>(3 * j).norm() << "\n";
+  }
+  for (int t = 0; t < problem.mesh.tet_count(); ++t)
+    for (int c = 0; c < 4; ++c)
+      if (problem.mesh.tets(t, c) == v0) {
+        const Eigen::Matrix<double, 3, 4> x = problem.mesh.corners(t);
+        double lmax = 0;
+        for (int i = 0; i < 4; ++i)
+          for (int j = i + 1; j < 4; ++j) lmax = std::max(lmax, (x.col(i) - x.col(j)).norm());
+        Eigen::Matrix3d ed;
+        ed << x.col(1) - x.col(0), x.col(2) - x.col(0), x.col(3) - x.col(0);
+        std::cout << "  tet " << t << " quality " << ed.determinant() / std::pow(lmax, 3) << "\n";
+      }
+  const Prolongation& p0 = mg.hierarchy().prolongation(0);
+  for (int s2 = 0; s2 < 4; ++s2)
+    std::cout << "  P row: coarse " << p0.vertices[v0][s2] << " w " << p0.weights[v0][s2] << " at "
+              << mg.hierarchy().positions(1).row(p0.vertices[v0][s2]) << " constrained "
+              << int(mg.hierarchy().constrained(1)[p0.vertices[v0][s2]]) << "\n";
+  // Smoothed? Energy of e vs its (smoothing-sensitive) high-frequency part: one GS sweep.
+  Eigen::VectorXd s = e;
+  Eigen::VectorXd r;
+  mg.residual(zero, s, r);
+  std::cout << "|A e| / |e|_A = " << r.norm() << "\n";
 }
 
 }  // namespace

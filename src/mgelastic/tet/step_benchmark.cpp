@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <ctime>
 #include <random>
 
 #include "mgelastic/core/error.hpp"
@@ -108,8 +109,10 @@ TetStepBenchmark run_tet_step_benchmark(const TetStepBenchmarkOptions& options) 
   const double n = options.steps;
   for (int s = -1; s < options.steps; ++s) {  // step -1 warms up (and builds the hierarchy)
     Timer timer;
+    const std::clock_t cpu_start = std::clock();
     const StepStats stats = solver.step();
     const double step_seconds = timer.seconds();
+    const double step_cpu = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
     TetMultigrid& mg = *solver.multigrid();
     if (s < 0) {
       r.setup_seconds = stats.galerkin_seconds - mg.update_times().galerkin_seconds -
@@ -145,6 +148,7 @@ TetStepBenchmark run_tet_step_benchmark(const TetStepBenchmarkOptions& options) 
     r.galerkin_naive_seconds += naive / n;
     r.solve_seconds += stats.solve_seconds / n;
     r.step_seconds += step_seconds / n;
+    r.step_cpu_seconds += step_cpu / n;
     r.step_residual += stats.solve.relative_residual / n;
   }
   const TetMultigrid& mg = *solver.multigrid();
@@ -152,6 +156,16 @@ TetStepBenchmark run_tet_step_benchmark(const TetStepBenchmarkOptions& options) 
   for (int l = 0; l < mg.level_count(); ++l)
     r.level_vertices.push_back(mg.hierarchy().vertex_count(l));
   r.stream_bytes = mg.stream_memory_bytes();
+  if (mg.level_count() > 1 && !options.multigrid.lexicographic) {
+    r.smoother_colors = mg.smoother(0).color_count();
+    r.smoother_clustered_vertices = mg.smoother(0).clustered_vertices();
+  }
+  if (options.external_solver) {
+    const StepSystem system(solver.stiffness(), solver.body().vertex_mass(), 1.0, kStep * kStep,
+                            fixed);
+    const Eigen::SparseMatrix<double, Eigen::RowMajor> a = system.to_sparse();
+    r.external = options.external_solver(a, b, options.tolerance);
+  }
   Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size()), res;
   double r3 = 1.0;
   for (int c = 1; c <= 10; ++c) {

@@ -16,7 +16,9 @@
 // block-Jacobi PCG, MG-PCG and V-cycles solve the step matrix with a seeded random right-hand
 // side (zero on Dirichlet vertices) from zero to `tolerance`. Times are means over `steps` steps
 // after one warm-up step.
+#include <Eigen/SparseCore>
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -24,6 +26,18 @@
 #include "mgelastic/tet/tet_multigrid.hpp"
 
 namespace mgelastic::tet {
+
+// An outside solver run on the last step matrix (e.g. hypre BoomerAMG-PCG, supplied by the app so
+// that the tet module does not depend on hypre): A (3N x 3N, identity rows on Dirichlet vertices,
+// unknowns vertex-major), the random right-hand side, the relative tolerance.
+struct ExternalSolveResult {
+  bool available = false;
+  int iterations = 0;
+  double setup_seconds = 0.0, solve_seconds = 0.0;
+  bool converged = false;
+};
+using ExternalSolver = std::function<ExternalSolveResult(
+    const Eigen::SparseMatrix<double, Eigen::RowMajor>&, const Eigen::VectorXd&, double)>;
 
 struct TetStepBenchmarkOptions {
   int cells_across = 8;
@@ -34,6 +48,7 @@ struct TetStepBenchmarkOptions {
   int vcycles = 1;
   double tolerance = 1e-6;
   TetMultigridSettings multigrid;
+  ExternalSolver external_solver;  // empty: none
 };
 
 struct TetStepBenchmark {
@@ -44,15 +59,18 @@ struct TetStepBenchmark {
   double rotate_seconds = 0.0, assemble_seconds = 0.0;
   double fine_operator_seconds = 0.0;  // A_0 = M + h^2 K~ copied into the multigrid
   double galerkin_naive_seconds = 0.0, galerkin_stream_seconds = 0.0;
-  double factor_seconds = 0.0;  // coarsest Cholesky and smoother diagonals
-  double solve_seconds = 0.0;   // the step's V-cycles and residual
-  double step_seconds = 0.0;    // CorotatedSolver::step() wall time (forces and update included)
-  double step_residual = 0.0;   // mean relative residual of the step after its V-cycles
+  double factor_seconds = 0.0;    // coarsest Cholesky and smoother diagonals
+  double solve_seconds = 0.0;     // the step's V-cycles and residual
+  double step_seconds = 0.0;      // CorotatedSolver::step() wall time (forces and update included)
+  double step_cpu_seconds = 0.0;  // CPU time of the process over the step (all threads)
+  double step_residual = 0.0;     // mean relative residual of the step after its V-cycles
   double mg_pcg_seconds = 0.0, baseline_pcg_seconds = 0.0, vcycles_to_tolerance_seconds = 0.0;
   double mg_pcg_iterations = 0.0, baseline_pcg_iterations = 0.0, vcycles_to_tolerance = 0.0;
   double vcycle_rate = 0.0;  // residual reduction per V-cycle (cycles 4..10, random b)
   std::size_t stream_bytes = 0;
-  double steps_per_second = 0.0;           // 1 / step_seconds
+  ExternalSolveResult external;                              // on the last step's matrix
+  int smoother_colors = 0, smoother_clustered_vertices = 0;  // level 0
+  double steps_per_second = 0.0;                             // 1 / step_seconds
   double baseline_steps_per_second = 0.0;  // step with BJ-PCG instead of Galerkin + V-cycles
 };
 

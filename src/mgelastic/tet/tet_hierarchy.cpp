@@ -244,15 +244,39 @@ std::vector<std::vector<int>> coarse_adjacency(const Prolongation& p,
 
 void Prolongation::prolong_add(const Eigen::VectorXd& coarse, Eigen::VectorXd& fine) const {
   const int n = fine_vertex_count();
-#pragma omp parallel for if (n >= 4096)
+#pragma omp parallel for schedule(static) if (n >= 4096)
   for (int v = 0; v < n; ++v)
     for (int s = 0; s < 4; ++s)
       fine.segment<3>(3 * v) += weights[v][s] * coarse.segment<3>(3 * vertices[v][s]);
 }
 
+void Prolongation::build_transpose() {
+  transpose_offsets.assign(coarse_vertex_count + 1, 0);
+  for (int v = 0; v < fine_vertex_count(); ++v)
+    for (int s = 0; s < 4; ++s)
+      if (weights[v][s] != 0.0) ++transpose_offsets[vertices[v][s] + 1];
+  for (int c = 0; c < coarse_vertex_count; ++c) transpose_offsets[c + 1] += transpose_offsets[c];
+  transpose_entries.resize(transpose_offsets.back());
+  std::vector<int> fill(transpose_offsets.begin(), transpose_offsets.end() - 1);
+  for (int v = 0; v < fine_vertex_count(); ++v)
+    for (int s = 0; s < 4; ++s)
+      if (weights[v][s] != 0.0) transpose_entries[fill[vertices[v][s]]++] = {v, weights[v][s]};
+}
+
 void Prolongation::restrict_to(const Eigen::VectorXd& fine, Eigen::VectorXd& coarse) const {
-  // A scatter (R = P^T is stored by fine rows); serial keeps it race-free and deterministic.
   coarse.setZero(3 * coarse_vertex_count);
+  if (!transpose_offsets.empty()) {
+    // Gather: each coarse vertex sums its own terms (no race, same order for any thread count).
+#pragma omp parallel for schedule(static) if (coarse_vertex_count >= 1024)
+    for (int c = 0; c < coarse_vertex_count; ++c) {
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      for (int k = transpose_offsets[c]; k < transpose_offsets[c + 1]; ++k)
+        sum += transpose_entries[k].second * fine.segment<3>(3 * transpose_entries[k].first);
+      coarse.segment<3>(3 * c) = sum;
+    }
+    return;
+  }
+  // A scatter (P is stored by fine rows); serial keeps it race-free and deterministic.
   for (int v = 0; v < fine_vertex_count(); ++v)
     for (int s = 0; s < 4; ++s)
       if (weights[v][s] != 0.0)
@@ -312,6 +336,7 @@ TetHierarchy::TetHierarchy(const geometry::TetMesh& fine, const std::vector<char
     for (int d = 0; d < p.coarse_vertex_count; ++d)
       positions.row(d) = coarse.mesh.vertices.row(grid_vertex[d]);
     adjacency = coarse_adjacency(p, adjacency);
+    p.build_transpose();
     m_prolongations.push_back(std::move(p));
     m_constrained.push_back(std::move(coarse_constrained));
     m_coarse_meshes.push_back(std::move(coarse.mesh));

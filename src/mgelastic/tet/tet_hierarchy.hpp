@@ -2,10 +2,11 @@
 // Tetrahedral multigrid hierarchy (Georgii & Westermann 2008, Sec. 4.3; hierarchy of [GW05]):
 // level 0 is the simulation mesh; levels 1..L are regular tetrahedral grids (cubes split into six
 // Kuhn tetrahedra, geometry::regular_tet_grid) that cover it, each with twice the cube size of
-// the previous one. Level 1 has cube size `first_cell_factor` (default 2) times the fine mesh's
-// mean edge length. All coarse grids share the origin (the fine bounding box's minimum), so the
-// grid points of level l+1 are grid points of level l and its cubes are unions of 2x2x2 level-l
-// cubes.
+// the previous one. Level 1 has cube size `first_cell_factor` times the fine mesh's mean edge
+// length; the default 1.587 = 2 / 1.26 (1.26 = mean edge of a unit cube's Kuhn tetrahedra) makes
+// the coarse edges twice the fine ones, the usual factor 2 of geometric multigrid. All coarse grids
+// share the origin (the fine bounding box's minimum), so the grid points of level l+1 are grid
+// points of level l and its cubes are unions of 2x2x2 level-l cubes.
 //
 // Coverage: a cube of level l is kept when it overlaps the bounding box of some fine tetrahedron
 // (selected through the cube centre, CubeSelection::CENTER, with an occupancy predicate that is
@@ -34,6 +35,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <array>
+#include <utility>
 #include <vector>
 
 #include "mgelastic/geometry/tet_mesh.hpp"
@@ -49,13 +51,19 @@ struct Prolongation {
   int fine_vertex_count() const { return static_cast<int>(vertices.size()); }
   // fine (3 Nf) += P coarse (3 Nc); vectors vertex-major.
   void prolong_add(const Eigen::VectorXd& coarse, Eigen::VectorXd& fine) const;
-  // coarse (3 Nc) = P^T fine (3 Nf).
+  // coarse (3 Nc) = P^T fine (3 Nf): a gather over the transpose when build_transpose() was
+  // called (parallel over coarse vertices), else a serial scatter.
   void restrict_to(const Eigen::VectorXd& fine, Eigen::VectorXd& coarse) const;
+  // P^T by coarse rows (CSR): coarse vertex c gathers transpose_entries[k] = (fine vertex, weight)
+  // for k in [transpose_offsets[c], transpose_offsets[c+1]).
+  void build_transpose();
+  std::vector<int> transpose_offsets;
+  std::vector<std::pair<int, double>> transpose_entries;
   Eigen::SparseMatrix<double> to_sparse() const;  // 3 Nf x 3 Nc, for tests
 };
 
 struct TetHierarchySettings {
-  double first_cell_factor = 2.0;  // level-1 cube size / mean fine edge length
+  double first_cell_factor = 1.587;  // level-1 cube size / mean fine edge length
   int max_coarsest_vertices = 400;
   int max_levels = 12;  // including the fine level
 };

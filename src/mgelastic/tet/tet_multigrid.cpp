@@ -102,9 +102,15 @@ void TetMultigrid::update_coarse(GalerkinMethod method) {
 }
 
 void TetMultigrid::finish_coarse_update() {
-  // Smoother diagonals on every level but the coarsest.
+  // Smoother blocks on every level but the coarsest.
   for (int l = 0; l + 1 < level_count(); ++l) {
     Level& level = m_levels[l];
+    if (!m_settings.lexicographic) {
+      if (!level.partitioned) level.smoother.build(level.matrix, m_settings.smoother);
+      level.partitioned = true;
+      level.smoother.factor(level.matrix, l);
+      continue;
+    }
     const int n = level.matrix.block_rows();
     level.inverse_diagonal.resize(n);
     bool singular = false;
@@ -133,6 +139,10 @@ void TetMultigrid::finish_coarse_update() {
 }
 
 void TetMultigrid::smooth(int l, const Eigen::VectorXd& b, Eigen::VectorXd& x, bool forward) const {
+  if (!m_settings.lexicographic) {
+    m_levels[l].smoother.sweep(m_levels[l].matrix, b, x, forward, m_settings.relaxation);
+    return;
+  }
   // Block Gauss-Seidel: x_i <- D_i^{-1} (b_i - sum_{j != i} A_ij x_j), rows in order (serial).
   const BlockRowMatrix<double>& a = m_levels[l].matrix;
   const int n = a.block_rows();

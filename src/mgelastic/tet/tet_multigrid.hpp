@@ -24,6 +24,7 @@
 #include "mgelastic/geometry/tet_mesh.hpp"
 #include "mgelastic/tet/block_jacobi_pcg.hpp"
 #include "mgelastic/tet/brc_matrix.hpp"
+#include "mgelastic/tet/cluster_smoother.hpp"
 #include "mgelastic/tet/galerkin_product.hpp"
 #include "mgelastic/tet/tet_hierarchy.hpp"
 
@@ -41,6 +42,11 @@ struct TetMultigridSettings {
   bool symmetric_sweeps = false;
   // Over-relaxation of the block Gauss-Seidel update (1 = plain Gauss-Seidel, SOR otherwise).
   double relaxation = 1.0;
+  // Smoother: multicolour cluster block Gauss-Seidel (parallel; strongly coupled vertices solved
+  // together, cluster_smoother.hpp), or the serial point-block sweep in vertex order
+  // (`lexicographic`, the earlier smoother, kept for comparison).
+  ClusterSmootherSettings smoother;
+  bool lexicographic = false;
 };
 
 // Residual norms of one traced V-cycle per level (cycle_traced): after restriction (entry), after
@@ -108,12 +114,16 @@ class TetMultigrid {
   // Stream of the product that makes level + 1 (nullptr for NAIVE).
   const GalerkinStream* stream(int level) const { return m_levels[level].stream.get(); }
   std::size_t stream_memory_bytes() const;
+  // The smoother of a level (not the coarsest); partitioned at the first update().
+  const ClusterSmoother& smoother(int level) const { return m_levels[level].smoother; }
 
  private:
   struct Level {
     BlockRowMatrix<double> matrix;
     std::unique_ptr<GalerkinStream> stream;  // product to the next level
     std::vector<Eigen::Matrix3d> inverse_diagonal;
+    ClusterSmoother smoother;
+    bool partitioned = false;
     mutable Eigen::VectorXd b, x, r;
   };
   struct Coarsest;
