@@ -7,6 +7,7 @@
 
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/threads.hpp"
+#include "mgelastic/geometry/surface_mesh_readers.hpp"
 #include "mgelastic/grid/box_problem.hpp"
 #include "mgelastic/grid/cg_baseline.hpp"
 #include "mgelastic/grid/convergence_rate.hpp"
@@ -14,6 +15,8 @@
 #include "mgelastic/grid/hypre_baseline.hpp"
 #include "mgelastic/grid/multigrid.hpp"
 #include "mgelastic/grid/nonaugmented_system.hpp"
+#include "mgelastic/scene/grid_setup.hpp"
+#include "mgelastic/scene/scene.hpp"
 #include "mgelastic/tet/step_benchmark.hpp"
 
 namespace mgelastic::app {
@@ -221,9 +224,64 @@ void run_disc_accuracy(bool json) {
               << "\n";
 }
 
-// Fig. 22/23-style profile: seconds per subroutine and per V-cycle on the mixed box.
+// The paper's armadillo-style run (Fig. 22): a surface mesh voxelized at `resolution` cells
+// along its longest axis (one padding layer, the scenes' extra band layer), its lowest 5 % of
+// height fixed, under gravity; float V(1,1) cycles. Same record as run_convergence.
+nlohmann::json mesh_vcycle(const std::string& file, int resolution, const BoxBenchOptions& o) {
+  if (resolution < 8)
+    throw Error("must be at least 8 (got " + std::to_string(resolution) + ")",
+                {.pointer = "--resolution"});
+  const geometry::TriangleMesh mesh = geometry::read_surface_mesh(file);
+  const Eigen::Vector3d lo = mesh.vertices.colwise().minCoeff().transpose();
+  const Eigen::Vector3d hi = mesh.vertices.colwise().maxCoeff().transpose();
+  const Eigen::Vector3d extent = hi - lo, center = 0.5 * (lo + hi);
+  const nlohmann::json document = {
+      {"geometry", {{"mesh", file}}},
+      {"grid", {{"resolution", resolution}, {"padding", 1}}},
+      {"material", {{"youngs_modulus", o.youngs}, {"poisson_ratio", o.poisson}, {"density", 1000}}},
+      {"constraints",
+       {{{"region",
+          {{"box",
+            {{"center", {center.x(), lo.y(), center.z()}},
+             {"size", {2 * extent.x(), 0.1 * extent.y(), 2 * extent.z()}}}}}}}}}};
+  const scene::GridSetup setup =
+      scene::build_grid_setup(scene::parse_scene(document, "bench.json", "."));
+  grid::MultigridOptions options = multigrid_options(o);
+  options.band_layers = 1;  // the scenes' default
+  grid::Multigrid<3, float> mg(setup.problem, options);
+  const grid::SolveReport report = mg.run_cycles(o.cycles);
+  const auto& phases = mg.phase_seconds();
+  return {{"benchmark", "convergence"},
+          {"mesh", file},
+          {"dim", 3},
+          {"n", resolution},
+          {"interior_cells", setup.interior_cells},
+          {"poisson", o.poisson},
+          {"precision", "float"},
+          {"cycle", o.cycle},
+          {"boundary_sweeps", mg.boundary_sweeps()},
+          {"levels", mg.levels()},
+          {"unknowns", mg.unknowns()},
+          {"residuals", report.residuals},
+          {"rate", grid::convergence_rate(report.residuals, 1e-11)},
+          {"vcycle_seconds", report.seconds / std::max(1, report.cycles())},
+          {"working_set_bytes", mg.bytes()},
+          {"threads", thread_count()},
+          {"phase_seconds",
+           {{"boundary_smoothing", phases.boundary_smoothing},
+            {"interior_smoothing", phases.interior_smoothing},
+            {"residual", phases.residual},
+            {"restriction", phases.restriction},
+            {"prolongation", phases.prolongation},
+            {"coarse_solve", phases.coarse_solve},
+            {"other", phases.other}}}};
+}
+
+// Fig. 22/23-style profile: seconds per subroutine and per V-cycle on the mixed box (and on
+// surface meshes, `meshes`, voxelized at `resolution`).
 void run_vcycle_profile(const std::vector<int>& sizes, const std::vector<int>& threads,
-                        const BoxBenchOptions& base) {
+                        const BoxBenchOptions& base, const std::vector<std::string>& meshes = {},
+                        int resolution = 0) {
   static const char* phases[] = {
       "boundary_smoothing", "interior_smoothing", "residual", "restriction",
       "prolongation",       "coarse_solve",       "other"};
@@ -237,6 +295,12 @@ void run_vcycle_profile(const std::vector<int>& sizes, const std::vector<int>& t
       records.push_back(r);
     }
   }
+  for (const std::string& file : meshes) {
+    for (int t : threads) {
+      set_thread_count(t);
+      records.push_back(mesh_vcycle(file, resolution, base));
+    }
+  }
   set_thread_count(0);
   if (base.json) {
     std::cout << nlohmann::json{{"benchmark", "vcycle"}, {"runs", records}}.dump(2) << "\n";
@@ -245,8 +309,13 @@ void run_vcycle_profile(const std::vector<int>& sizes, const std::vector<int>& t
   std::printf("V(1,1) profile, 3D mixed box, nu=%.3g, %s, %d cycles: seconds per V-cycle\n\n",
               base.poisson, base.precision.c_str(), base.cycles);
   std::printf("%-20s", "subroutine");
-  for (const auto& r : records)
-    std::printf(" | %4d^3 %dT", r["n"].get<int>(), r["threads"].get<int>());
+  for (const auto& r : records) {
+    if (r.contains("mesh")) {
+      std::printf(" | mesh %3d %dT", r["n"].get<int>(), r["threads"].get<int>());
+    } else {
+      std::printf(" | %4d^3 %dT", r["n"].get<int>(), r["threads"].get<int>());
+    }
+  }
   std::printf("\n");
   for (const char* phase : phases) {
     std::printf("%-20s", phase);
@@ -263,7 +332,21 @@ void run_vcycle_profile(const std::vector<int>& sizes, const std::vector<int>& t
   for (const auto& r : records) std::printf(" | %9.1f", r["working_set_bytes"].get<double>() / 1e6);
   std::printf("\n%-20s", "levels");
   for (const auto& r : records) std::printf(" | %9d", r["levels"].get<int>());
+  // Bytes per interior unknown of the working set, and the rate at which a cycle would have to
+  // stream it once per sweep-equivalent (a lower bound of the traffic: working set / time).
+  std::printf("\n%-20s", "bytes per unknown");
+  for (const auto& r : records)
+    std::printf(" | %9.0f", r["working_set_bytes"].get<double>() / r["unknowns"].get<double>());
+  std::printf("\n%-20s", "working set GB/s");
+  for (const auto& r : records)
+    std::printf(" | %9.2f",
+                r["working_set_bytes"].get<double>() / 1e9 / r["vcycle_seconds"].get<double>());
   std::printf("\n");
+  for (const auto& r : records)
+    if (r.contains("mesh"))
+      std::printf("mesh %s: %zu interior cells at resolution %d\n",
+                  r["mesh"].get<std::string>().c_str(), r["interior_cells"].get<std::size_t>(),
+                  r["n"].get<int>());
 }
 
 // Georgii & Westermann Table 1/2 (tet/step_benchmark.hpp); milliseconds per step.
@@ -423,14 +506,24 @@ void register_bench_commands(CLI::App& app) {
   profile_options.cycles = 10;
   CLI::App* vcycle = bench->add_subcommand(
       "vcycle", "Seconds per subroutine and per V-cycle (paper Figs. 22-23) on the mixed box");
-  vcycle->add_option("--sizes", profile_sizes, "Cells per axis (3D)");
+  vcycle->add_option("--sizes", profile_sizes, "Cells per axis (3D); 0 = no box");
   vcycle->add_option("--threads", profile_threads, "Thread counts to compare");
   vcycle->add_option("--poisson", profile_options.poisson, "Poisson ratio");
   vcycle->add_option("--precision", profile_options.precision, "float or double");
   vcycle->add_option("--cycles", profile_options.cycles, "V-cycles per run");
   vcycle->add_option("--cycle", profile_options.cycle, "V or W");
   vcycle->add_flag("--json", profile_options.json, "Print JSON instead of a table");
-  vcycle->callback([] { run_vcycle_profile(profile_sizes, profile_threads, profile_options); });
+  static std::vector<std::string> profile_meshes;
+  static int profile_resolution = 128;
+  vcycle->add_option("--mesh", profile_meshes,
+                     "Surface meshes to profile as well (voxelized, lowest 5 % fixed, gravity)");
+  vcycle->add_option("--resolution", profile_resolution,
+                     "Cells along the longest axis of each --mesh");
+  vcycle->callback([] {
+    std::vector<int> sizes = profile_sizes;  // --sizes 0: meshes only
+    std::erase_if(sizes, [](int n) { return n <= 0; });
+    run_vcycle_profile(sizes, profile_threads, profile_options, profile_meshes, profile_resolution);
+  });
   static TetStepOptions tet_options;
   CLI::App* tet_step = bench->add_subcommand(
       "tet-step",

@@ -128,5 +128,44 @@ TEST(BandSmoother, BackSubstitutionSatisfiesNormalTractions) {
   }
 }
 
+// The compact band rows the sweeps read (band_kernel.hpp) are the CSR rows of band_u: the same
+// values at the same columns in the same order, so every row sums bit for bit alike, on an
+// irregular typing (many distinct patterns) and on the box (few patterns shared by many rows).
+template <int Dim>
+void expect_kernel_matches_rows(const ElasticityProblem<Dim>& problem) {
+  auto level =
+      build_level<Dim, float>(problem.lattice, problem.cells, problem.material, {}, nullptr);
+  const auto& rows = level.band_u;
+  const auto& kernel = level.band_kernel;
+  ASSERT_GT(rows.rows(), 10u);
+  ASSERT_EQ(kernel.rows(), rows.rows());
+  EXPECT_LT(kernel.patterns(), kernel.rows());
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> uniform(-1, 1);
+  for (auto& field : level.x)
+    for (float& v : field) v = uniform(rng);
+  for (std::size_t m = 0; m < rows.rows(); ++m) {
+    float csr = 0, compact = 0;
+    for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e)
+      csr += rows.value[e] * level.x[rows.column_field[e]][rows.column_index[e]];
+    const std::uint32_t p = kernel.pattern[m];
+    for (std::uint32_t e = kernel.start[p]; e < kernel.start[p + 1]; ++e)
+      compact += kernel.entry_value[e] *
+                 level.x[kernel.entry_field[e]][kernel.target[m] + kernel.entry_offset[e]];
+    ASSERT_EQ(csr, compact) << "band row " << m;
+    ASSERT_EQ(kernel.schur_diagonal[p], level.band_u_schur_diagonal[m]) << "band row " << m;
+    ASSERT_EQ(kernel.field[m], rows.target_field[m]);
+  }
+}
+
+TEST(BandKernel, CompactRowsEqualTheCsrRows) {
+  expect_kernel_matches_rows(test::irregular_problem<3>(12, 4u, {1e5, 0.45}));
+  expect_kernel_matches_rows(test::irregular_problem<2>(24, 2u, {1e5, 0.49}));
+  BoxSpec spec;
+  spec.cells = 16;
+  spec.poisson_ratio = 0.48;
+  expect_kernel_matches_rows(make_box_problem<3>(spec));
+}
+
 }  // namespace
 }  // namespace mgelastic::grid

@@ -22,39 +22,68 @@ Scalar& row_variable(Level<Dim, Scalar>& level, const SparseRows<Scalar>& rows, 
   return level.x[rows.target_field[m]][rows.target_index[m]];
 }
 
+// The band momentum rows as the sweeps see them (band_kernel.hpp): raw field pointers and the
+// compact rows, so the inner loops do no vector indirection.
 template <int Dim, typename Scalar>
-void move_band_variable(Level<Dim, Scalar>& level, std::uint32_t m, Scalar delta) {
-  row_variable(level, level.band_u, m) += delta;
-  for (int c = 0; c < 2; ++c) {
-    const std::uint32_t cell = level.band_u_pressure[m][c];
-    if (cell != UINT32_MAX) level.x[Dim][cell] -= level.band_u_pressure_factor[m][c] * delta;
-  }
-}
+struct BandSweep {
+  std::array<Scalar*, Dim + 1> x;
+  const BandKernel<Scalar>& kernel;
+  const Scalar* block_inverse;
 
-template <int Dim, typename Scalar>
-void relax_band_row(Level<Dim, Scalar>& level, std::uint32_t m) {
-  const auto& rows = level.band_u;
-  const Scalar residual = row_rhs(level, rows, m) - row_dot(level, rows, m);
-  move_band_variable(level, m, residual / level.band_u_schur_diagonal[m]);
-}
+  explicit BandSweep(Level<Dim, Scalar>& level)
+      : kernel(level.band_kernel), block_inverse(level.band_block_inverse.data()) {
+    for (int f = 0; f <= Dim; ++f) x[f] = level.x[f].data();
+  }
 
-// Solves the band faces of one eliminated cell together: delta = S_loc^-1 r.
+  Scalar residual(std::uint32_t m) const {
+    const std::uint32_t pattern = kernel.pattern[m];
+    const std::ptrdiff_t self = kernel.target[m];
+    Scalar sum = 0;
+    for (std::uint32_t e = kernel.start[pattern]; e < kernel.start[pattern + 1]; ++e)
+      sum += kernel.entry_value[e] * x[kernel.entry_field[e]][self + kernel.entry_offset[e]];
+    return kernel.rhs[m] - sum;
+  }
+
+  // Moves the row's variable and keeps its eliminated pressures exact.
+  void move(std::uint32_t m, Scalar delta) const {
+    const std::uint32_t pattern = kernel.pattern[m];
+    const std::ptrdiff_t self = kernel.target[m];
+    x[kernel.field[m]][self] += delta;
+    for (int c = 0; c < kernel.pressure_count[pattern]; ++c)
+      x[Dim][self + kernel.pressure_offset[pattern][c]] -=
+          kernel.pressure_factor[pattern][c] * delta;
+  }
+
+  void relax_row(std::uint32_t m) const {
+    move(m, residual(m) / kernel.schur_diagonal[kernel.pattern[m]]);
+  }
+
+  // Solves the band faces of one eliminated cell together: delta = S_loc^-1 r.
+  void relax_block(const std::array<std::uint32_t, 2 * Dim>& members, std::size_t block) const {
+    constexpr int B = 2 * Dim;
+    std::array<Scalar, B> r{};
+    for (int a = 0; a < B && members[a] != UINT32_MAX; ++a) r[a] = residual(members[a]);
+    const Scalar* inverse = block_inverse + block * B * B;
+    for (int a = 0; a < B && members[a] != UINT32_MAX; ++a) {
+      Scalar delta = 0;
+      for (int b = 0; b < B; ++b) delta += inverse[a * B + b] * r[b];
+      move(members[a], delta);
+    }
+  }
+};
+
+// kernel.rhs[m] = b - constant of row m (b is fixed during the sweeps).
 template <int Dim, typename Scalar>
-void relax_band_block(Level<Dim, Scalar>& level, std::size_t block) {
-  constexpr int B = 2 * Dim;
+void refresh_band_rhs(Level<Dim, Scalar>& level, const std::vector<std::uint32_t>* subset) {
   const auto& rows = level.band_u;
-  const auto& members = level.band_blocks[block];
-  std::array<Scalar, B> residual{};
-  for (int a = 0; a < B && members[a] != UINT32_MAX; ++a) {
-    const std::uint32_t m = members[a];
-    residual[a] = row_rhs(level, rows, m) - row_dot(level, rows, m);
+  auto& rhs = level.band_kernel.rhs;
+  if (subset) {
+    for (std::uint32_t m : *subset) rhs[m] = row_rhs(level, rows, m);
+    return;
   }
-  const Scalar* inverse = &level.band_block_inverse[block * B * B];
-  for (int a = 0; a < B && members[a] != UINT32_MAX; ++a) {
-    Scalar delta = 0;
-    for (int b = 0; b < B; ++b) delta += inverse[a * B + b] * residual[b];
-    move_band_variable(level, members[a], delta);
-  }
+  const auto count = static_cast<std::ptrdiff_t>(rows.rows());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t m = 0; m < count; ++m) rhs[m] = row_rhs(level, rows, m);
 }
 
 }  // namespace
@@ -74,17 +103,20 @@ template <int Dim, typename Scalar>
 void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps,
                        const std::vector<std::uint32_t>* subset) {
   update_band_pressures(level);
+  if (level.band_kernel.rows() != level.band_u.rows()) build_band_kernel(level);
+  refresh_band_rhs(level, subset);
+  const BandSweep<Dim, Scalar> band(level);
   for (int sweep = 0; sweep < sweeps; ++sweep) {
     if (subset) {
-      for (std::uint32_t m : *subset) relax_band_row(level, m);
+      for (std::uint32_t m : *subset) band.relax_row(m);
     } else {
       // Colored blocks: the blocks of one color touch disjoint variables.
       for (const auto& color : level.band_schedule) {
         const auto count = static_cast<std::ptrdiff_t>(color.size());
 #pragma omp parallel for schedule(dynamic, 1)
         for (std::ptrdiff_t b = 0; b < count; ++b) {
-          for (std::uint32_t e : color[b].cell_blocks) relax_band_block(level, e);
-          for (std::uint32_t m : color[b].point_rows) relax_band_row(level, m);
+          for (std::uint32_t e : color[b].cell_blocks) band.relax_block(level.band_blocks[e], e);
+          for (std::uint32_t m : color[b].point_rows) band.relax_row(m);
         }
       }
     }

@@ -542,7 +542,7 @@ std::size_t Level<Dim, Scalar>::bytes() const {
   total += vector_bytes(band_u_schur_diagonal) + vector_bytes(band_u_pressure) +
            vector_bytes(band_u_pressure_factor) + vector_bytes(band_p_extra) +
            vector_bytes(band_p_inverse) + vector_bytes(band_blocks) +
-           vector_bytes(band_block_inverse) + vector_bytes(band_point_rows);
+           vector_bytes(band_block_inverse) + vector_bytes(band_point_rows) + band_kernel.bytes();
   return total;
 }
 
@@ -578,6 +578,7 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
                                 level.cell_weight.empty() ? nullptr : &level.cell_weight);
   build_band_rows(level, builder, pre, post);
   build_band_blocks(level);
+  build_band_kernel(level);
   level.blocks = partition_into_blocks(level.lattice);
   build_band_schedule(level);
   build_traction_rules(level, sigma);

@@ -11,6 +11,7 @@
 #include <functional>
 #include <vector>
 
+#include "mgelastic/grid/band_kernel.hpp"
 #include "mgelastic/grid/block_partition.hpp"
 #include "mgelastic/grid/lattice.hpp"
 #include "mgelastic/grid/material.hpp"
@@ -114,6 +115,9 @@ struct Level {
   std::vector<std::array<std::uint32_t, 2 * Dim>> band_blocks;  // band_u rows, UINT32_MAX = none
   std::vector<Scalar> band_block_inverse;
   std::vector<std::uint32_t> band_point_rows;
+  // band_u, its Schur diagonal and pressure factors in the compact form the sweeps read
+  // (band_kernel.hpp); rebuild with build_band_kernel after changing any of them.
+  BandKernel<Scalar> band_kernel;
 
   // Multithreading (Sec. 9.4): colored blocks of the volume for the distributive sweeps, and
   // the band's work grouped by the same blocks (the separate partition of the boundary band),

@@ -220,7 +220,10 @@ void Multigrid<Dim, Scalar>::observe(int l, CyclePhase phase) {
 
 template <int Dim, typename Scalar>
 double Multigrid<Dim, Scalar>::residual() {
-  return m_solution ? compute_residual(*m_solution) : compute_residual(m_levels.front());
+  if (!m_solution) return compute_residual(m_levels.front());
+  const double norm = compute_residual(*m_solution);
+  m_solution_residual_current = true;
+  return norm;
 }
 
 template <int Dim, typename Scalar>
@@ -232,10 +235,11 @@ double Multigrid<Dim, Scalar>::vcycle() {
     m_phases.other += timer.seconds();
     return norm;
   }
-  // Mixed precision: the float hierarchy solves L e = r for the double residual r.
+  // Mixed precision: the float hierarchy solves L e = r for the double residual r, which the
+  // previous cycle (or residual()) left in m_solution->r unless the solution changed since.
   Timer timer;
   Level<Dim, Scalar>& fine = m_levels.front();
-  compute_residual(*m_solution);
+  if (!m_solution_residual_current) compute_residual(*m_solution);
   for (int f = 0; f <= Dim; ++f) {
     std::transform(m_solution->r[f].begin(), m_solution->r[f].end(), fine.b[f].begin(),
                    [](double v) { return static_cast<Scalar>(v); });
@@ -249,6 +253,7 @@ double Multigrid<Dim, Scalar>::vcycle() {
       if (fine.kind[f][k] == VarKind::INTERIOR) m_solution->x[f][k] += fine.x[f][k];
   back_substitute_traction(*m_solution);
   const double norm = compute_residual(*m_solution);
+  m_solution_residual_current = true;
   m_phases.other += timer.seconds();
   return norm;
 }
@@ -358,6 +363,7 @@ void Multigrid<Dim, Scalar>::set_solution_state(const SolutionState& x) {
                       std::to_string(level.x[f].size()),
                   {.pointer = "solution state"});
   level.x = x;
+  m_solution_residual_current = false;
 }
 
 template <int Dim, typename Scalar>

@@ -109,7 +109,8 @@ class Multigrid {
   const PhaseSeconds& phase_seconds() const { return m_phases; }
   // The finest level in double precision that holds the solution x and the right-hand side b
   // (the float finest level solves only corrections in mixed precision). Time integrators
-  // (backward_euler.hpp) write b and the initial guess here between solves.
+  // (backward_euler.hpp) write b and the initial guess here between solves; do not keep the
+  // reference across a cycle (each call marks the cached residual stale).
   Level<Dim, double>& solution_level();
   const Level<Dim, double>& solution_level() const {
     return const_cast<Multigrid*>(this)->solution_level();
@@ -136,6 +137,10 @@ class Multigrid {
   // correction (homogeneous boundary conditions), so float V-cycles still reach residuals far
   // below float round-off of the displacements. Null in double precision.
   std::unique_ptr<Level<Dim, double>> m_solution;
+  // m_solution->r holds the residual of m_solution's current x and b (set by vcycle() and
+  // residual(); cleared by every access that may change them, solution_level() included), so
+  // the next cycle need not recompute it.
+  bool m_solution_residual_current = false;
   std::unique_ptr<CoarseSolver<Dim, Scalar>> m_coarse;
   MultigridOptions m_options;
   int m_boundary_sweeps = 2;

@@ -16,6 +16,7 @@ namespace mgelastic::grid {
 
 template <int Dim, typename Scalar>
 Level<Dim, double>& Multigrid<Dim, Scalar>::solution_level() {
+  m_solution_residual_current = false;  // the caller may change x or b
   if constexpr (std::is_same_v<Scalar, double>) {
     return m_solution ? *m_solution : m_levels.front();
   } else {

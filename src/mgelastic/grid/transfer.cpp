@@ -158,59 +158,92 @@ Sample interpolate(const Level<Dim, Scalar>& coarse, int field, const std::array
   return combine(first, t[0].weight, second, t[1].weight, axis != field);
 }
 
-// The interpolation of `interpolate` when every coarse sample it reads is active (interior or
-// traction), which is the case away from boundaries: the same weights in the same order (so the
-// same rounding), without the per-sample bookkeeping. Returns false where a sample is inactive
-// or Dirichlet, and the caller falls back to `interpolate`.
+// Coarse rows read by a fine storage row: the taps along axes 1..Dim-1 combined in the order
+// `interpolate` visits them (last axis outermost), as row offsets and weights.
+template <int Dim>
+struct OuterTaps {
+  static constexpr int max_rows = 1 << (Dim - 1);
+  std::array<std::ptrdiff_t, max_rows> offset{};
+  std::array<Taps, Dim> taps;
+};
+
+// Interpolated value over the outer axes [1, axis] from the per-row values `row` (one per outer
+// tap combination, axis 1 fastest), with the weights and order of `interpolate`.
+template <int Dim>
+double combine_outer(const OuterTaps<Dim>& outer, const double* row, int axis, int first) {
+  if (axis == 0) return row[first];
+  const Taps& t = outer.taps[axis];
+  const int span = 1 << (axis - 1);  // rows per tap of this axis
+  const double a = combine_outer<Dim>(outer, row, axis - 1, first);
+  if (t.size() == 1) return a;
+  const double b = combine_outer<Dim>(outer, row, axis - 1, first + span);
+  return t[0].weight * a + t[1].weight * b;
+}
+
+// Adds the interpolated correction to the interior fine u_field variables of one storage row.
+// Where every coarse sample is active (interior or traction, which is the case away from
+// boundaries) the plain weighted sum is used: the weights and order of `interpolate`, hence the
+// same rounding, without its per-sample bookkeeping. Elsewhere `interpolate` itself.
 template <int Dim, typename Scalar>
-bool interpolate_active(const Level<Dim, Scalar>& coarse, int field,
-                        const std::array<Taps, Dim>& taps, std::ptrdiff_t offset, int axis,
-                        double& value) {
-  if (axis < 0) {
-    const VarKind kind = coarse.kind[field][offset];
-    if (kind != VarKind::INTERIOR && kind != VarKind::TRACTION) return false;
-    value = static_cast<double>(coarse.x[field][offset]);
-    return true;
+void prolongate_row(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>& fine, int field,
+                    const IVec<Dim>& s) {
+  OuterTaps<Dim> outer;
+  int rows = 1;
+  for (int a = 1; a < Dim; ++a) {
+    outer.taps[a] = prolongation_taps(s[a], a == field, false);
+    rows *= 2;
   }
-  const Taps& t = taps[axis];
-  const std::ptrdiff_t stride = coarse.lattice.stride(axis);
-  double first = 0.0, second = 0.0;
-  if (!interpolate_active<Dim, Scalar>(coarse, field, taps, offset + t[0].coordinate * stride,
-                                       axis - 1, first))
-    return false;
-  if (t.size() == 1) {
-    value = first;
-    return true;
+  // Row r combines tap bit (a - 1) of r along axis a; a missing second tap repeats the first.
+  for (int r = 0; r < rows; ++r) {
+    std::ptrdiff_t offset = 0;
+    for (int a = 1; a < Dim; ++a) {
+      const Taps& t = outer.taps[a];
+      const int pick = ((r >> (a - 1)) & 1) && t.size() > 1 ? 1 : 0;
+      offset += t[pick].coordinate * coarse.lattice.stride(a);
+    }
+    outer.offset[r] = offset;
   }
-  if (!interpolate_active<Dim, Scalar>(coarse, field, taps, offset + t[1].coordinate * stride,
-                                       axis - 1, second))
-    return false;
-  value = t[0].weight * first + t[1].weight * second;
-  return true;
+  const VarKind* fine_kind = fine.kind[field].data();
+  const VarKind* coarse_kind = coarse.kind[field].data();
+  const Scalar* cx = coarse.x[field].data();
+  Scalar* x = fine.x[field].data();
+  const std::ptrdiff_t base = fine.lattice.index(s);
+  // INTERIOR (1) and TRACTION (3) are the active kinds: bit 0 set.
+  auto active = [&](std::ptrdiff_t k) { return (static_cast<int>(coarse_kind[k]) & 1) != 0; };
+  for (int i = 0; i < fine.lattice.padded(0); ++i) {
+    if (fine_kind[base + i] != VarKind::INTERIOR) continue;
+    const Taps t0 = prolongation_taps(i, field == 0, false);
+    std::array<double, OuterTaps<Dim>::max_rows> row{};
+    bool all_active = true;
+    for (int r = 0; r < rows && all_active; ++r) {
+      const std::ptrdiff_t k0 = outer.offset[r] + t0[0].coordinate;
+      if (t0.size() == 1) {
+        all_active = active(k0);
+        row[r] = static_cast<double>(cx[k0]);
+      } else {
+        const std::ptrdiff_t k1 = outer.offset[r] + t0[1].coordinate;
+        all_active = active(k0) && active(k1);
+        row[r] =
+            t0[0].weight * static_cast<double>(cx[k0]) + t0[1].weight * static_cast<double>(cx[k1]);
+      }
+    }
+    if (all_active) {
+      x[base + i] += static_cast<Scalar>(combine_outer<Dim>(outer, row.data(), Dim - 1, 0));
+      continue;
+    }
+    std::array<Taps, Dim> taps = outer.taps;
+    taps[0] = t0;
+    IVec<Dim> cs;
+    const Sample sample = interpolate<Dim, Scalar>(coarse, field, taps, cs, Dim - 1);
+    if (sample.state != Sample::INACTIVE) x[base + i] += static_cast<Scalar>(sample.value);
+  }
 }
 
 template <int Dim, typename Scalar>
 void prolongate_displacement(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>& fine,
                              int field) {
-  const VarKind* kind = fine.kind[field].data();
-  Scalar* x = fine.x[field].data();
-  for_each_row<Dim>(fine.lattice, [&](IVec<Dim> s) {
-    std::array<Taps, Dim> taps;
-    for (int a = 1; a < Dim; ++a) taps[a] = prolongation_taps(s[a], a == field, false);
-    const std::ptrdiff_t base = fine.lattice.index(s);
-    for (int i = 0; i < fine.lattice.padded(0); ++i) {
-      if (kind[base + i] != VarKind::INTERIOR) continue;
-      taps[0] = prolongation_taps(i, field == 0, false);
-      double value = 0.0;
-      if (interpolate_active<Dim, Scalar>(coarse, field, taps, 0, Dim - 1, value)) {
-        x[base + i] += static_cast<Scalar>(value);
-        continue;
-      }
-      IVec<Dim> cs;
-      const Sample sample = interpolate<Dim, Scalar>(coarse, field, taps, cs, Dim - 1);
-      if (sample.state != Sample::INACTIVE) x[base + i] += static_cast<Scalar>(sample.value);
-    }
-  });
+  for_each_row<Dim>(fine.lattice,
+                    [&](IVec<Dim> s) { prolongate_row<Dim, Scalar>(coarse, fine, field, s); });
 }
 
 }  // namespace

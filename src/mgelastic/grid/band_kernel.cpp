@@ -1,0 +1,93 @@
+#include "mgelastic/grid/band_kernel.hpp"
+
+#include <cstring>
+#include <string>
+#include <unordered_map>
+
+#include "mgelastic/grid/level.hpp"
+
+namespace mgelastic::grid {
+namespace {
+
+template <typename T>
+void append_bytes(std::string& key, const T& value) {
+  char bytes[sizeof(T)];
+  std::memcpy(bytes, &value, sizeof(T));
+  key.append(bytes, sizeof(T));
+}
+
+template <typename T>
+std::size_t vector_bytes(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
+}  // namespace
+
+template <typename Scalar>
+std::size_t BandKernel<Scalar>::bytes() const {
+  return vector_bytes(pattern) + vector_bytes(target) + vector_bytes(field) + vector_bytes(rhs) +
+         vector_bytes(start) + vector_bytes(schur_diagonal) + vector_bytes(pressure_offset) +
+         vector_bytes(pressure_factor) + vector_bytes(pressure_count) + vector_bytes(entry_field) +
+         vector_bytes(entry_offset) + vector_bytes(entry_value);
+}
+
+template <int Dim, typename Scalar>
+void build_band_kernel(Level<Dim, Scalar>& level) {
+  const SparseRows<Scalar>& rows = level.band_u;
+  BandKernel<Scalar> kernel;
+  kernel.pattern.reserve(rows.rows());
+  kernel.target = rows.target_index;
+  kernel.field = rows.target_field;
+  kernel.rhs.assign(rows.rows(), Scalar(0));
+  // Patterns are identified by their exact bytes, so a shared pattern is bit-identical to
+  // every row that uses it.
+  std::unordered_map<std::string, std::uint32_t> ids;
+  std::string key;
+  for (std::size_t m = 0; m < rows.rows(); ++m) {
+    const auto self = static_cast<std::int64_t>(rows.target_index[m]);
+    key.clear();
+    for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e) {
+      append_bytes(key, rows.column_field[e]);
+      append_bytes(key, static_cast<std::int32_t>(rows.column_index[e] - self));
+      append_bytes(key, rows.value[e]);
+    }
+    std::array<std::int32_t, 2> offset{0, 0};
+    std::array<Scalar, 2> factor{0, 0};
+    std::uint8_t count = 0;
+    for (int c = 0; c < 2; ++c) {
+      const std::uint32_t cell = level.band_u_pressure[m][c];
+      if (cell == UINT32_MAX) continue;
+      offset[count] = static_cast<std::int32_t>(cell - self);
+      factor[count++] = level.band_u_pressure_factor[m][c];
+    }
+    append_bytes(key, level.band_u_schur_diagonal[m]);
+    append_bytes(key, count);
+    for (int c = 0; c < count; ++c) {
+      append_bytes(key, offset[c]);
+      append_bytes(key, factor[c]);
+    }
+    const auto [it, added] = ids.try_emplace(key, static_cast<std::uint32_t>(kernel.patterns()));
+    kernel.pattern.push_back(it->second);
+    if (!added) continue;
+    for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e) {
+      kernel.entry_field.push_back(rows.column_field[e]);
+      kernel.entry_offset.push_back(static_cast<std::int32_t>(rows.column_index[e] - self));
+      kernel.entry_value.push_back(rows.value[e]);
+    }
+    kernel.start.push_back(static_cast<std::uint32_t>(kernel.entry_value.size()));
+    kernel.schur_diagonal.push_back(level.band_u_schur_diagonal[m]);
+    kernel.pressure_offset.push_back(offset);
+    kernel.pressure_factor.push_back(factor);
+    kernel.pressure_count.push_back(count);
+  }
+  level.band_kernel = std::move(kernel);
+}
+
+template struct BandKernel<float>;
+template struct BandKernel<double>;
+template void build_band_kernel<2, float>(Level<2, float>&);
+template void build_band_kernel<2, double>(Level<2, double>&);
+template void build_band_kernel<3, float>(Level<3, float>&);
+template void build_band_kernel<3, double>(Level<3, double>&);
+
+}  // namespace mgelastic::grid

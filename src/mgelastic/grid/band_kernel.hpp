@@ -1,0 +1,49 @@
+#pragma once
+// Compact form of the boundary band's momentum rows for the Gauss-Seidel sweeps (Sec. 5.3).
+//
+// Most band rows of a level repeat one of few shapes (a flat face, an edge, a corner, ...): the
+// same coefficients at the same offsets from the row's own variable. The sweeps stream every
+// band row a dozen times per V-cycle, so each row keeps only its target and a pattern id; the
+// distinct patterns (columns as (field, offset from the target's flat index), values, Schur
+// diagonal, eliminated-pressure factors) are stored once and stay in cache. Entry order and
+// values equal those of Level::band_u, so sums round exactly as with the CSR rows.
+//
+// Derived data: build_band_kernel() must run again after band_u, band_u_schur_diagonal or the
+// pressure factors change (build_level calls it).
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace mgelastic::grid {
+
+template <int Dim, typename Scalar>
+struct Level;
+
+template <typename Scalar>
+struct BandKernel {
+  // Per band_u row.
+  std::vector<std::uint32_t> pattern;  // pattern id
+  std::vector<std::uint32_t> target;   // flat index of the row's own variable
+  std::vector<std::uint8_t> field;     // its field
+  std::vector<Scalar> rhs;             // b - constant, refreshed by each band_gauss_seidel call
+  // Per pattern: entries [start, start + 1), Schur diagonal, up to two eliminated pressures
+  // at cell offsets from the target (factor 0 and offset 0 when absent).
+  std::vector<std::uint32_t> start{0};
+  std::vector<Scalar> schur_diagonal;
+  std::vector<std::array<std::int32_t, 2>> pressure_offset;
+  std::vector<std::array<Scalar, 2>> pressure_factor;
+  std::vector<std::uint8_t> pressure_count;
+  // Per pattern entry.
+  std::vector<std::uint8_t> entry_field;
+  std::vector<std::int32_t> entry_offset;
+  std::vector<Scalar> entry_value;
+
+  std::size_t rows() const { return pattern.size(); }
+  std::size_t patterns() const { return schur_diagonal.size(); }
+  std::size_t bytes() const;
+};
+
+template <int Dim, typename Scalar>
+void build_band_kernel(Level<Dim, Scalar>& level);
+
+}  // namespace mgelastic::grid
