@@ -43,6 +43,52 @@ double backward_euler_inertia(const TimeStepOptions& o) {
   return o.density * (1.0 + o.mass_damping * o.dt) / (o.dt * (o.dt + o.damping));
 }
 
+template <int Dim>
+void sample_face_velocity(const Level<Dim, double>& level,
+                          const std::function<Vec<Dim>(const Vec<Dim>&)>& velocity,
+                          std::array<std::vector<double>, Dim>& out) {
+  for (int i = 0; i < Dim; ++i)
+    for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(level.size()); ++k)
+      out[i][k] = level.kind[i][k] == VarKind::INACTIVE
+                      ? 0.0
+                      : velocity(level.lattice.face_center(i, k))[i];
+}
+
+template <int Dim>
+void write_step_right_hand_side(Level<Dim, double>& level,
+                                const std::array<std::vector<double>, Dim + 1>& static_rhs,
+                                const std::array<std::vector<double>, Dim>& velocity,
+                                const TimeStepOptions& options, double inertia) {
+  const double dt = options.dt, gamma = options.damping, c = inertia;
+  const double beta = 1.0 + gamma / dt;
+  const auto n = static_cast<std::ptrdiff_t>(level.size());
+  for (int i = 0; i < Dim; ++i) {
+    for (std::ptrdiff_t k = 0; k < n; ++k) {
+      if (level.kind[i][k] != VarKind::INTERIOR) {
+        level.b[i][k] = static_rhs[i][k];
+        continue;
+      }
+      const double u = level.x[i][k];
+      const double damping_force = gamma > 0 ? (gamma / dt) * (c * u - level.r[i][k]) : 0.0;
+      level.b[i][k] =
+          (static_rhs[i][k] + damping_force - (options.density / dt) * velocity[i][k]) / beta -
+          c * u;
+    }
+  }
+  level.b[Dim] = static_rhs[Dim];
+}
+
+#define MGELASTIC_INSTANTIATE(D)                                                     \
+  template void sample_face_velocity<D>(const Level<D, double>&,                     \
+                                        const std::function<Vec<D>(const Vec<D>&)>&, \
+                                        std::array<std::vector<double>, D>&);        \
+  template void write_step_right_hand_side<D>(                                       \
+      Level<D, double>&, const std::array<std::vector<double>, D + 1>&,              \
+      const std::array<std::vector<double>, D>&, const TimeStepOptions&, double);
+MGELASTIC_INSTANTIATE(2)
+MGELASTIC_INSTANTIATE(3)
+#undef MGELASTIC_INSTANTIATE
+
 template <int Dim, typename Scalar>
 BackwardEuler<Dim, Scalar>::BackwardEuler(ElasticityProblem<Dim> problem,
                                           const TimeStepOptions& options,
@@ -60,41 +106,16 @@ BackwardEuler<Dim, Scalar>::BackwardEuler(ElasticityProblem<Dim> problem,
 
 template <int Dim, typename Scalar>
 void BackwardEuler<Dim, Scalar>::set_velocity(const VectorField& velocity) {
-  const Level<Dim, double>& level = m_multigrid.solution_level();
-  for (int i = 0; i < Dim; ++i)
-    for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(level.size()); ++k)
-      m_velocity[i][k] = level.kind[i][k] == VarKind::INACTIVE
-                             ? 0.0
-                             : velocity(level.lattice.face_center(i, k))[i];
+  sample_face_velocity<Dim>(m_multigrid.solution_level(), velocity, m_velocity);
 }
 
-// b = (b_static + (gamma/dt) L u - (rho/dt) v) / beta - c u at the interior momentum rows; the
-// pressure rows keep their static right-hand side.
 template <int Dim, typename Scalar>
 void BackwardEuler<Dim, Scalar>::assemble_right_hand_side(Level<Dim, double>& level) {
-  const double dt = m_options.dt, gamma = m_options.damping, c = m_inertia;
-  const double beta = 1.0 + gamma / dt;
-  const auto n = static_cast<std::ptrdiff_t>(level.size());
-  if (gamma > 0) {
-    // The residual with b = 0 is r = -(L u - c u), so L u = c u - r (tractions included).
+  if (m_options.damping > 0) {
     for (auto& b : level.b) std::fill(b.begin(), b.end(), 0.0);
     compute_residual(level);
   }
-  for (int i = 0; i < Dim; ++i) {
-    for (std::ptrdiff_t k = 0; k < n; ++k) {
-      if (level.kind[i][k] != VarKind::INTERIOR) {
-        level.b[i][k] = m_static_rhs[i][k];
-        continue;
-      }
-      const double u = level.x[i][k];
-      const double damping_force = gamma > 0 ? (gamma / dt) * (c * u - level.r[i][k]) : 0.0;
-      level.b[i][k] =
-          (m_static_rhs[i][k] + damping_force - (m_options.density / dt) * m_velocity[i][k]) /
-              beta -
-          c * u;
-    }
-  }
-  level.b[Dim] = m_static_rhs[Dim];
+  write_step_right_hand_side<Dim>(level, m_static_rhs, m_velocity, m_options, m_inertia);
 }
 
 template <int Dim, typename Scalar>

@@ -43,6 +43,21 @@ void validate(const TimeStepOptions& options);
 // The c of the step equation above.
 double backward_euler_inertia(const TimeStepOptions& options);
 
+// Samples `velocity` at the face variables of `level` (0 at inactive faces) into `out`.
+template <int Dim>
+void sample_face_velocity(const Level<Dim, double>& level,
+                          const std::function<Vec<Dim>(const Vec<Dim>&)>& velocity,
+                          std::array<std::vector<double>, Dim>& out);
+
+// Writes the step's b = (b_static + (gamma/dt) L u - (rho/dt) v) / beta - c u into the interior
+// momentum rows of `level` (b_static elsewhere). With damping (gamma > 0) level.r must hold the
+// residual of b = 0, r = -(L u - c u), from which L u = c u - r.
+template <int Dim>
+void write_step_right_hand_side(Level<Dim, double>& level,
+                                const std::array<std::vector<double>, Dim + 1>& static_rhs,
+                                const std::array<std::vector<double>, Dim>& velocity,
+                                const TimeStepOptions& options, double inertia);
+
 template <int Dim, typename Scalar>
 class BackwardEuler {
  public:

@@ -34,40 +34,17 @@ CorotatedBackwardEuler<Dim>::CorotatedBackwardEuler(ElasticityProblem<Dim> probl
 
 template <int Dim>
 void CorotatedBackwardEuler<Dim>::set_velocity(const VectorField& velocity) {
-  const Level<Dim, double>& level = m_multigrid.solution_level();
-  for (int i = 0; i < Dim; ++i)
-    for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(level.size()); ++k)
-      m_velocity[i][k] = level.kind[i][k] == VarKind::INACTIVE
-                             ? 0.0
-                             : velocity(level.lattice.face_center(i, k))[i];
+  sample_face_velocity<Dim>(m_multigrid.solution_level(), velocity, m_velocity);
 }
 
 template <int Dim>
 void CorotatedBackwardEuler<Dim>::assemble_right_hand_side() {
   Level<Dim, double>& level = m_multigrid.solution_level();
-  const double dt = m_options.dt, gamma = m_options.damping, c = m_inertia;
-  const double beta = 1.0 + gamma / dt;
-  const auto n = static_cast<std::ptrdiff_t>(level.size());
-  if (gamma > 0) {
-    // With b = 0 the non-linear residual is r = -(L u - c u), so L u = c u - r.
+  if (m_options.damping > 0) {
     for (auto& b : level.b) std::fill(b.begin(), b.end(), 0.0);
     m_multigrid.nonlinear_residual();
   }
-  for (int i = 0; i < Dim; ++i) {
-    for (std::ptrdiff_t k = 0; k < n; ++k) {
-      if (level.kind[i][k] != VarKind::INTERIOR) {
-        level.b[i][k] = m_static_rhs[i][k];
-        continue;
-      }
-      const double u = level.x[i][k];
-      const double damping_force = gamma > 0 ? (gamma / dt) * (c * u - level.r[i][k]) : 0.0;
-      level.b[i][k] =
-          (m_static_rhs[i][k] + damping_force - (m_options.density / dt) * m_velocity[i][k]) /
-              beta -
-          c * u;
-    }
-  }
-  level.b[Dim] = m_static_rhs[Dim];
+  write_step_right_hand_side<Dim>(level, m_static_rhs, m_velocity, m_options, m_inertia);
 }
 
 template <int Dim>
