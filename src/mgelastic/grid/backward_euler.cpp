@@ -78,13 +78,44 @@ void write_step_right_hand_side(Level<Dim, double>& level,
   level.b[Dim] = static_rhs[Dim];
 }
 
-#define MGELASTIC_INSTANTIATE(D)                                                     \
-  template void sample_face_velocity<D>(const Level<D, double>&,                     \
-                                        const std::function<Vec<D>(const Vec<D>&)>&, \
-                                        std::array<std::vector<double>, D>&);        \
-  template void write_step_right_hand_side<D>(                                       \
-      Level<D, double>&, const std::array<std::vector<double>, D + 1>&,              \
-      const std::array<std::vector<double>, D>&, const TimeStepOptions&, double);
+template <int Dim>
+void update_face_velocity(const Level<Dim, double>& level,
+                          const std::array<std::vector<double>, Dim>& previous, double dt,
+                          std::array<std::vector<double>, Dim>& velocity) {
+  for (int i = 0; i < Dim; ++i)
+    for (std::size_t k = 0; k < level.size(); ++k)
+      velocity[i][k] =
+          level.kind[i][k] == VarKind::INACTIVE ? 0.0 : (level.x[i][k] - previous[i][k]) / dt;
+}
+
+template <int Dim>
+double face_kinetic_energy(const Level<Dim, double>& level,
+                           const std::array<std::vector<double>, Dim>& velocity, double density) {
+  double sum = 0;
+  for (int i = 0; i < Dim; ++i)
+    for (std::size_t k = 0; k < level.size(); ++k)
+      if (level.kind[i][k] == VarKind::INTERIOR) sum += velocity[i][k] * velocity[i][k];
+  return 0.5 * density * std::pow(level.lattice.h, Dim) * sum;
+}
+
+Error diverged_step(double time, const std::string& reason) {
+  std::ostringstream text;
+  text << "the time step from t = " << time << " s diverged" << reason;
+  return Error(text.str(), ErrorContext{.pointer = "time"});
+}
+
+#define MGELASTIC_INSTANTIATE(D)                                                           \
+  template void sample_face_velocity<D>(const Level<D, double>&,                           \
+                                        const std::function<Vec<D>(const Vec<D>&)>&,       \
+                                        std::array<std::vector<double>, D>&);              \
+  template void write_step_right_hand_side<D>(                                             \
+      Level<D, double>&, const std::array<std::vector<double>, D + 1>&,                    \
+      const std::array<std::vector<double>, D>&, const TimeStepOptions&, double);          \
+  template void update_face_velocity<D>(const Level<D, double>&,                           \
+                                        const std::array<std::vector<double>, D>&, double, \
+                                        std::array<std::vector<double>, D>&);              \
+  template double face_kinetic_energy<D>(const Level<D, double>&,                          \
+                                         const std::array<std::vector<double>, D>&, double);
 MGELASTIC_INSTANTIATE(2)
 MGELASTIC_INSTANTIATE(3)
 #undef MGELASTIC_INSTANTIATE
@@ -141,33 +172,18 @@ SolveReport BackwardEuler<Dim, Scalar>::step(const VectorField& dirichlet) {
       report = m_multigrid.solve(m_options.tolerance, m_options.max_vcycles);
     }
   } catch (const Error& e) {
-    std::ostringstream text;
-    text << "the time step from t = " << m_time << " s diverged: " << e.what();
-    throw Error(text.str(), ErrorContext{.pointer = "time"});
+    throw diverged_step(m_time, std::string(": ") + e.what());
   }
-  if (!std::isfinite(report.residuals.back())) {
-    std::ostringstream text;
-    text << "the time step from t = " << m_time
-         << " s diverged (non-finite residual); try a smaller time.dt or more substeps";
-    throw Error(text.str(), ErrorContext{.pointer = "time"});
-  }
-  for (int i = 0; i < Dim; ++i)
-    for (std::ptrdiff_t k = 0; k < n; ++k)
-      m_velocity[i][k] =
-          level.kind[i][k] == VarKind::INACTIVE ? 0.0 : (level.x[i][k] - m_previous[i][k]) / dt;
+  if (!std::isfinite(report.residuals.back()))
+    throw diverged_step(m_time, " (non-finite residual); try a smaller time.dt or more substeps");
+  update_face_velocity<Dim>(level, m_previous, dt, m_velocity);
   m_time += dt;
   return report;
 }
 
 template <int Dim, typename Scalar>
 double BackwardEuler<Dim, Scalar>::kinetic_energy() const {
-  const Level<Dim, double>& level = m_multigrid.solution_level();
-  const double volume = std::pow(level.lattice.h, Dim);
-  double sum = 0;
-  for (int i = 0; i < Dim; ++i)
-    for (std::size_t k = 0; k < level.size(); ++k)
-      if (level.kind[i][k] == VarKind::INTERIOR) sum += m_velocity[i][k] * m_velocity[i][k];
-  return 0.5 * m_options.density * volume * sum;
+  return face_kinetic_energy<Dim>(m_multigrid.solution_level(), m_velocity, m_options.density);
 }
 
 template class BackwardEuler<2, float>;

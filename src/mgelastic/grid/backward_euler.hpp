@@ -20,8 +20,10 @@
 // all that a checkpoint needs.
 #include <array>
 #include <functional>
+#include <string>
 #include <vector>
 
+#include "mgelastic/core/error.hpp"
 #include "mgelastic/grid/multigrid.hpp"
 
 namespace mgelastic::grid {
@@ -48,6 +50,21 @@ template <int Dim>
 void sample_face_velocity(const Level<Dim, double>& level,
                           const std::function<Vec<Dim>(const Vec<Dim>&)>& velocity,
                           std::array<std::vector<double>, Dim>& out);
+
+// v' = (u' - u) / dt at the face variables (0 at inactive faces), from the level's u' and the
+// step's starting displacement `previous`.
+template <int Dim>
+void update_face_velocity(const Level<Dim, double>& level,
+                          const std::array<std::vector<double>, Dim>& previous, double dt,
+                          std::array<std::vector<double>, Dim>& velocity);
+
+// Kinetic energy (1/2) rho h^d sum v^2 over the interior face variables.
+template <int Dim>
+double face_kinetic_energy(const Level<Dim, double>& level,
+                           const std::array<std::vector<double>, Dim>& velocity, double density);
+
+// The error of a step from time t whose solve failed with `reason`.
+Error diverged_step(double time, const std::string& reason);
 
 // Writes the step's b = (b_static + (gamma/dt) L u - (rho/dt) v) / beta - c u into the interior
 // momentum rows of `level` (b_static elsewhere). With damping (gamma > 0) level.r must hold the

@@ -65,27 +65,16 @@ CorotatedReport CorotatedBackwardEuler<Dim>::step(const VectorField& dirichlet) 
                  ? m_multigrid.run_cycles(m_options.vcycles_per_step)
                  : m_multigrid.solve(m_options.tolerance, m_options.max_vcycles);
   } catch (const Error& e) {
-    std::ostringstream text;
-    text << "the time step from t = " << m_time << " s diverged: " << e.what();
-    throw Error(text.str(), ErrorContext{.pointer = "time"});
+    throw diverged_step(m_time, std::string(": ") + e.what());
   }
-  for (int i = 0; i < Dim; ++i)
-    for (std::ptrdiff_t k = 0; k < n; ++k)
-      m_velocity[i][k] =
-          level.kind[i][k] == VarKind::INACTIVE ? 0.0 : (level.x[i][k] - m_previous[i][k]) / dt;
+  update_face_velocity<Dim>(level, m_previous, dt, m_velocity);
   m_time += dt;
   return report;
 }
 
 template <int Dim>
 double CorotatedBackwardEuler<Dim>::kinetic_energy() const {
-  const Level<Dim, double>& level = m_multigrid.solution_level();
-  const double volume = std::pow(level.lattice.h, Dim);
-  double sum = 0;
-  for (int i = 0; i < Dim; ++i)
-    for (std::size_t k = 0; k < level.size(); ++k)
-      if (level.kind[i][k] == VarKind::INTERIOR) sum += m_velocity[i][k] * m_velocity[i][k];
-  return 0.5 * m_options.density * volume * sum;
+  return face_kinetic_energy<Dim>(m_multigrid.solution_level(), m_velocity, m_options.density);
 }
 
 template class CorotatedBackwardEuler<2>;
