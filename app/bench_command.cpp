@@ -50,6 +50,17 @@ grid::MultigridOptions multigrid_options(const BoxBenchOptions& o) {
   return options;
 }
 
+// The rows of the paper's Fig. 22, for the --json records.
+nlohmann::json phase_seconds_json(const grid::PhaseSeconds& phases) {
+  return {{"boundary_smoothing", phases.boundary_smoothing},
+          {"interior_smoothing", phases.interior_smoothing},
+          {"residual", phases.residual},
+          {"restriction", phases.restriction},
+          {"prolongation", phases.prolongation},
+          {"coarse_solve", phases.coarse_solve},
+          {"other", phases.other}};
+}
+
 template <int Dim, typename Scalar>
 nlohmann::json convergence(const BoxBenchOptions& o) {
   grid::MultigridOptions options = multigrid_options(o);
@@ -75,14 +86,7 @@ nlohmann::json convergence(const BoxBenchOptions& o) {
           {"vcycle_seconds", report.seconds / std::max(1, report.cycles())},
           {"working_set_bytes", mg.bytes()},
           {"threads", thread_count()},
-          {"phase_seconds",
-           {{"boundary_smoothing", phases.boundary_smoothing},
-            {"interior_smoothing", phases.interior_smoothing},
-            {"residual", phases.residual},
-            {"restriction", phases.restriction},
-            {"prolongation", phases.prolongation},
-            {"coarse_solve", phases.coarse_solve},
-            {"other", phases.other}}}};
+          {"phase_seconds", phase_seconds_json(phases)}};
 }
 
 template <int Dim>
@@ -267,14 +271,7 @@ nlohmann::json mesh_vcycle(const std::string& file, int resolution, const BoxBen
           {"vcycle_seconds", report.seconds / std::max(1, report.cycles())},
           {"working_set_bytes", mg.bytes()},
           {"threads", thread_count()},
-          {"phase_seconds",
-           {{"boundary_smoothing", phases.boundary_smoothing},
-            {"interior_smoothing", phases.interior_smoothing},
-            {"residual", phases.residual},
-            {"restriction", phases.restriction},
-            {"prolongation", phases.prolongation},
-            {"coarse_solve", phases.coarse_solve},
-            {"other", phases.other}}}};
+          {"phase_seconds", phase_seconds_json(phases)}};
 }
 
 // Fig. 22/23-style profile: seconds per subroutine and per V-cycle on the mixed box (and on
@@ -546,8 +543,9 @@ void register_bench_commands(CLI::App& app) {
                        "Coarsen until a level has <= this many vertices");
   tet_step->add_option("--cell-factor", tet_options.cell_factor,
                        "First coarse cube size / mean fine edge length");
-  tet_step->add_flag("--hypre", tet_options.hypre,
-                     "Also solve the last step matrix with hypre BoomerAMG-PCG (when built with it)");
+  tet_step->add_flag(
+      "--hypre", tet_options.hypre,
+      "Also solve the last step matrix with hypre BoomerAMG-PCG (when built with it)");
   tet_step->add_flag("--lexicographic", tet_options.lexicographic,
                      "Serial point-block Gauss-Seidel in vertex order instead of the multicolour "
                      "cluster smoother");
