@@ -211,12 +211,12 @@ double rotation_energy(const Eigen::Vector4d& q, const Eigen::Matrix4d& n, doubl
 
 namespace {
 
-// N, the convergence scale and the normalized warm start; false for an element collapsed to a
-// point (it carries no rotation information: q keeps the previous rotation).
-bool prepare_fit(const Eigen::Matrix3d& moment, double t, Eigen::Quaterniond& q, Eigen::Matrix4d& n,
-                 double& scale, Eigen::Vector4d& warm) {
-  n = rotation_energy_matrix(moment);
-  scale = 4.0 * (std::abs(t) + n.norm());
+// The convergence scale 4 (|T| + |N|) (|N|_F = 2 |B|_F for Horn's matrix) and the normalized
+// warm start; false for an element collapsed to a point (it carries no rotation information: q
+// keeps the previous rotation).
+bool prepare_fit(const Eigen::Matrix3d& moment, double t, Eigen::Quaterniond& q, double& scale,
+                 Eigen::Vector4d& warm) {
+  scale = 4.0 * (std::abs(t) + 2.0 * moment.norm());
   warm = to_vector(q);
   if (!warm.allFinite() || !(warm.norm() > 0.5)) warm = Eigen::Vector4d::UnitX();
   warm.normalize();
@@ -229,27 +229,25 @@ bool prepare_fit(const Eigen::Matrix3d& moment, double t, Eigen::Quaterniond& q,
 
 RotationFit minimize_rotation_energy(const Eigen::Matrix3d& moment, double t, Eigen::Quaterniond& q,
                                      const NewtonSettings& settings) {
-  Eigen::Matrix4d n;
   double scale = 0.0;
   Eigen::Vector4d warm;
-  if (!prepare_fit(moment, t, q, n, scale, warm)) return {0, true};
+  if (!prepare_fit(moment, t, q, scale, warm)) return {0, true};
   Eigen::Vector4d fast = warm;
   int iterations = 0;
   if (sphere_newton(moment, scale, settings, fast, iterations) && fast.allFinite()) {
     q = to_quaternion(fast.dot(warm) < 0.0 ? Eigen::Vector4d(-fast) : fast);
     return {iterations, false};
   }
-  return lagrangian_newton_or_eigen(n, t, scale, warm, settings, q);
+  return lagrangian_newton_or_eigen(rotation_energy_matrix(moment), t, scale, warm, settings, q);
 }
 
 RotationFit minimize_rotation_energy_reference(const Eigen::Matrix3d& moment, double t,
                                                Eigen::Quaterniond& q,
                                                const NewtonSettings& settings) {
-  Eigen::Matrix4d n;
   double scale = 0.0;
   Eigen::Vector4d warm;
-  if (!prepare_fit(moment, t, q, n, scale, warm)) return {0, true};
-  return lagrangian_newton_or_eigen(n, t, scale, warm, settings, q);
+  if (!prepare_fit(moment, t, q, scale, warm)) return {0, true};
+  return lagrangian_newton_or_eigen(rotation_energy_matrix(moment), t, scale, warm, settings, q);
 }
 
 }  // namespace mgelastic::tet
