@@ -22,6 +22,11 @@ void check_sizes(const BlockRowMatrix<double>& fine, const Prolongation& p) {
          std::to_string(fine.block_rows()) + " block rows");
 }
 
+// Pairs ahead whose destination block the walk prefetches, on coarse matrices of at least
+// kPrefetchBytes.
+constexpr int kPrefetchPairs = 8;
+constexpr std::size_t kPrefetchBytes = 16u << 20;
+
 // Streams above this many pairs in total are walked in parallel.
 constexpr std::size_t kMinParallelPairs = 20000;
 
@@ -180,6 +185,8 @@ void GalerkinStream::update(const BlockRowMatrix<double>& fine,
   if (fine.block_count() != m_fine_blocks || coarse.block_count() != m_coarse_blocks)
     fail("matrices differ from the patterns the streams were built for");
   const int streams = stream_count();
+  const bool prefetch =
+      static_cast<std::size_t>(m_coarse_blocks) * sizeof(Eigen::Matrix3d) >= kPrefetchBytes;
 #pragma omp parallel if (streams > 1 && pair_count() >= kMinParallelPairs)
   {
 #pragma omp for schedule(static, 1)
@@ -191,12 +198,21 @@ void GalerkinStream::update(const BlockRowMatrix<double>& fine,
         coarse.block(e).setZero();
       const double* weight = stream.weights.data();
       const std::int32_t* destination = stream.destinations.data();
+      // On large levels the destination blocks are scattered over an E beyond the caches: fetch
+      // the one kPrefetchPairs ahead while this one is updated (measured at 527k tets: stream
+      // 145 -> 125 ms under load; no gain measurable on small levels, so only there).
+      const std::ptrdiff_t pairs = static_cast<std::ptrdiff_t>(stream.destinations.size());
+      const std::int32_t* prefetch_end =
+          destination + (prefetch ? std::max<std::ptrdiff_t>(0, pairs - kPrefetchPairs) : 0);
       int k = stream.first_block - 1;
       for (const std::uint8_t c : stream.control) {
         k += c >> 7;  // fetch-next bit
         const Eigen::Matrix3d& source = fine.block(k);
-        for (int n = c & 0x7f; n > 0; --n, ++weight, ++destination)
+        for (int n = c & 0x7f; n > 0; --n, ++weight, ++destination) {
+          if (destination < prefetch_end)
+            __builtin_prefetch(coarse.block(destination[kPrefetchPairs]).data(), 1);
           coarse.block(*destination).noalias() += *weight * source;
+        }
       }
     }
     // Lower blocks from the upper ones (after the barrier: their rows may be another stream's).
