@@ -353,7 +353,7 @@ struct TetStepOptions {
   int refine = 0, steps = 5, threads = 0, coarsest = 300, vcycles = 1;
   double tolerance = 1e-6, cell_factor = 1.587;
   std::string rotation = "energy";
-  bool symmetric = false, json = false, hypre = false, lexicographic = false;
+  bool symmetric = false, json = false, hypre = false, lexicographic = false, steps_only = false;
 };
 
 // hypre BoomerAMG-PCG (grid/hypre_baseline.hpp) on a tet step matrix (unknowns vertex-major).
@@ -385,6 +385,7 @@ void run_tet_step(const TetStepOptions& o) {
   base.multigrid.hierarchy.first_cell_factor = o.cell_factor;
   base.multigrid.symmetric_sweeps = o.symmetric;
   base.multigrid.lexicographic = o.lexicographic;
+  base.steps_only = o.steps_only;
   if (o.hypre) base.external_solver = tet_boomeramg;
   base.rotation = o.rotation == "polar"            ? tet::RotationMethod::POLAR
                   : o.rotation == "smoothed_polar" ? tet::RotationMethod::POLAR_SMOOTHED
@@ -436,6 +437,7 @@ void run_tet_step(const TetStepOptions& o) {
                     {"boomeramg_iterations", r.external.iterations},
                     {"boomeramg_converged", r.external.converged},
                     {"step_residual", r.step_residual},
+                    {"newton_iterations", r.newton_iterations},
                     {"mg_pcg_seconds", r.mg_pcg_seconds},
                     {"mg_pcg_iterations", r.mg_pcg_iterations},
                     {"baseline_pcg_seconds", r.baseline_pcg_seconds},
@@ -549,6 +551,8 @@ void register_bench_commands(CLI::App& app) {
   tet_step->add_flag("--lexicographic", tet_options.lexicographic,
                      "Serial point-block Gauss-Seidel in vertex order instead of the multicolour "
                      "cluster smoother");
+  tet_step->add_flag("--steps-only", tet_options.steps_only,
+                     "Time the steps only (no naive product, baselines or rate; for profiling)");
   tet_step->add_flag("--json", tet_options.json, "Print JSON instead of a table");
   tet_step->callback([] {
     if (tet_options.threads > 0) set_thread_count(tet_options.threads);

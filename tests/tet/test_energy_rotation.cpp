@@ -148,6 +148,53 @@ TEST(EnergyRotation, NewtonConvergesInAFewStepsFromWarmStart) {
   }
 }
 
+// The fast path (sphere Newton on B M(q), closed-form LDL^T, early stop after a tiny step) returns
+// the minimizer of the reference (q, lambda) Newton of Eqs. 5-8, cold and warm started.
+TEST(EnergyRotation, FastPathEqualsTheReferenceNewton) {
+  std::mt19937 rng(17);
+  int warm_fallbacks = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const EnergyCase c = random_case(rng, 0.4);
+    Eigen::Quaterniond exact = Eigen::Quaterniond::Identity();
+    minimize_rotation_energy_reference(c.b(), c.t(), exact);
+    const double kick_angle = trial % 2 == 0 ? 0.02 : 0.5;
+    const Eigen::Quaterniond kick(Eigen::AngleAxisd(kick_angle, test::random_rotation(rng).col(0)));
+    for (const Eigen::Quaterniond& start : {Eigen::Quaterniond::Identity(), kick * exact}) {
+      Eigen::Quaterniond q = start, reference = start;
+      const RotationFit fit = minimize_rotation_energy(c.b(), c.t(), q);
+      minimize_rotation_energy_reference(c.b(), c.t(), reference);
+      if (start.isApprox(kick * exact)) warm_fallbacks += fit.fallback ? 1 : 0;
+      EXPECT_LE(std::abs(q.angularDistance(reference)), 1e-10) << trial;
+    }
+  }
+  EXPECT_EQ(warm_fallbacks, 0);  // warm starts never need the eigen-decomposition
+}
+
+// RotationField takes B and T from centroid offsets (B = D R^T, T = V/20 |D|^2); the reference
+// takes them from F and the rest moment S. Same rotations on a randomly deformed mesh.
+TEST(EnergyRotation, FieldUpdateEqualsPerElementReference) {
+  const geometry::TetMesh mesh = test::box_mesh(Eigen::Vector3d(1.0, 0.5, 0.5), 0.125);
+  const TetBody body(mesh, ElementMaterials::uniform(mesh.tet_count(), kMaterial));
+  std::mt19937 rng(18);
+  std::uniform_real_distribution<double> jitter(-0.02, 0.02);
+  const Eigen::Matrix3d r = test::random_rotation(rng);
+  Eigen::VectorXd x(body.rest_positions().size());
+  for (int v = 0; v < body.vertex_count(); ++v) {
+    const Eigen::Vector3d p = body.rest_positions().segment<3>(3 * v);
+    x.segment<3>(3 * v) = r * Eigen::Vector3d(p[0], p[1] + 0.3 * p[0] * p[0], p[2]) +
+                          Eigen::Vector3d(jitter(rng), jitter(rng), jitter(rng));
+  }
+  RotationField field(body, RotationMethod::ENERGY_MINIMIZATION);
+  field.update(x);
+  for (int e = 0; e < body.element_count(); ++e) {
+    const Eigen::Matrix3d f = deformation_gradient(body.corners(e, x), body.rest_edge_inverse(e));
+    const Eigen::Matrix3d b = f * body.second_moment(e);
+    Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+    minimize_rotation_energy_reference(b, (b * f.transpose()).trace(), q);
+    ASSERT_LE(std::abs(field.quaternions()[e].angularDistance(q.conjugate())), 1e-9) << e;
+  }
+}
+
 // Degenerate deformations: inverted, flat, collinear, collapsed, huge. The quaternion stays unit
 // and finite, and (where defined) it is the minimizer: the top eigenvector of N.
 TEST(EnergyRotation, NeverNonUnitOrNanOnInvertedAndFlatElements) {

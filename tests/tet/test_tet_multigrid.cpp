@@ -222,7 +222,7 @@ TEST(TetMultigrid, SolvesToToleranceAndPreconditionsCg) {
 // A real mesh sagging under gravity: lowest 10 % of its height fixed, E = 1e4 Pa x height (h^2 K~
 // dominates M at the element scale), three implicit Euler steps taken with the multigrid step
 // solver itself (tolerance 1e-6). Empty mesh when MGELASTIC_DATA_DIR is not set.
-StepProblem sagging_mesh(const std::string& file) {
+StepProblem sagging_mesh(const std::string& file, int refinements = 0) {
   StepProblem problem;
   const char* dir = std::getenv("MGELASTIC_DATA_DIR");
   if (dir == nullptr || std::string(dir).empty()) return problem;
@@ -230,6 +230,7 @@ StepProblem sagging_mesh(const std::string& file) {
   EXPECT_TRUE(std::filesystem::exists(path))
       << "MGELASTIC_DATA_DIR is set but " << path << " is missing";
   problem.mesh = geometry::read_tet_mesh(path);
+  for (int r = 0; r < refinements; ++r) problem.mesh = refine_uniform(problem.mesh);
   const double low = problem.mesh.vertices.col(1).minCoeff();
   const double extent = problem.mesh.vertices.col(1).maxCoeff() - low;
   std::vector<int> dirichlet;
@@ -269,6 +270,51 @@ TEST(TetMultigrid, VCycleRateOnArmadillo) {
   EXPECT_GE(single_mg.level_count(), 3);
   EXPECT_LE(single, kArmadilloVCycleRate);
   EXPECT_LE(both, kIssueRate);
+}
+
+// Mesh size on real meshes (measured, docs/tet-engine.md "Convergence"): the armadillo at 3.7k
+// tets (armadillo_4k), the same refined once (30k) and the independently meshed armadillo_13k
+// (55k); the bunny (19k) and the bunny refined once (155k). Symmetric sweeps:
+// 0.18 / 0.43 / 0.10 and 0.22 / 0.56; V(1,1): 0.43 / 0.65 / 0.33 and 0.42 / 0.67. What holds is
+// asserted: between the independently meshed sizes the finer one is not slower (+0.05), and the
+// symmetric rate stays <= 0.3 on them. The uniformly refined meshes are NOT within +0.05 (their
+// two-level rate with an exact coarse solve is as slow, so it is not the extra level): they are
+// bounded at the measured rates plus a margin so that a regression shows.
+constexpr double kRefinedVCycleRate = 0.71;
+constexpr double kRefinedSymmetricRate = 0.60;
+
+TEST(TetMultigrid, RateOnRealMeshesOfSeveralSizes) {
+  if (std::getenv("MGELASTIC_DATA_DIR") == nullptr) GTEST_SKIP() << "MGELASTIC_DATA_DIR not set";
+  TetMultigridSettings symmetric;
+  symmetric.symmetric_sweeps = true;
+  struct Rates {
+    double single = 0.0, both = 0.0;
+  };
+  const auto measure = [&](const std::string& file, int refinements) {
+    const StepProblem problem = sagging_mesh(file, refinements);
+    Rates rates;
+    if (problem.mesh.tet_count() == 0) return rates;
+    const TetMultigrid mg = step_multigrid(problem),
+                       mg_symmetric = step_multigrid(problem, symmetric);
+    rates.single = vcycle_rate(mg, problem.fixed, 8);
+    rates.both = vcycle_rate(mg_symmetric, problem.fixed, 8);
+    std::cout << "[ rate ] " << file << " x" << (1 << (3 * refinements)) << ": "
+              << problem.mesh.tet_count() << " tets, " << mg.level_count() << " levels: V(1,1) "
+              << rates.single << ", symmetric sweeps " << rates.both << "\n";
+    return rates;
+  };
+  const Rates coarse = measure("armadillo_4k.node", 0);
+  const Rates fine = measure("armadillo_13k.msh", 0);
+  EXPECT_LE(fine.single, coarse.single + kRateSpread);
+  EXPECT_LE(fine.both, coarse.both + kRateSpread);
+  EXPECT_LE(coarse.both, kIssueRate);
+  EXPECT_LE(fine.both, kIssueRate);
+  for (const auto& [file, refinements] :
+       std::vector<std::pair<std::string, int>>{{"armadillo_4k.node", 1}, {"bunny.msh", 1}}) {
+    const Rates refined = measure(file, refinements);
+    EXPECT_LE(refined.single, kRefinedVCycleRate) << file;
+    EXPECT_LE(refined.both, kRefinedSymmetricRate) << file;
+  }
 }
 
 TEST(TetMultigrid, VCycleRateOnBunny) {

@@ -18,9 +18,7 @@ StepSystem::StepSystem(const BlockRowMatrix<double>& stiffness, const Eigen::Vec
       m_mass(&mass),
       m_mass_scale(mass_scale),
       m_stiffness_scale(stiffness_scale),
-      m_constrained(&constrained) {
-  update_preconditioner();
-}
+      m_constrained(&constrained) {}
 
 void StepSystem::apply_unconstrained(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
   m_stiffness->multiply(x, y);
@@ -43,18 +41,31 @@ void StepSystem::apply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
 }
 
 void StepSystem::eliminate(const Eigen::VectorXd& known, Eigen::VectorXd& b) const {
+  // Only the blocks coupling a free row to a constrained column contribute (the mass is
+  // diagonal and constrained rows are overwritten): a pass over the pattern, not a product.
+  const BlockRowMatrix<double>& k = *m_stiffness;
+  const std::vector<char>& constrained = *m_constrained;
   const int n = static_cast<int>(m_mass->size());
-  Eigen::VectorXd known_only = Eigen::VectorXd::Zero(known.size());
-  for (int v = 0; v < n; ++v)
-    if ((*m_constrained)[v]) known_only.segment<3>(3 * v) = known.segment<3>(3 * v);
-  Eigen::VectorXd coupling;
-  apply_unconstrained(known_only, coupling);
-  b -= coupling;
-  for (int v = 0; v < n; ++v)
-    if ((*m_constrained)[v]) b.segment<3>(3 * v) = known.segment<3>(3 * v);
+#pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
+  for (int v = 0; v < n; ++v) {
+    if (constrained[v]) {
+      b.segment<3>(3 * v) = known.segment<3>(3 * v);
+      continue;
+    }
+    Eigen::Vector3d coupling = Eigen::Vector3d::Zero();
+    for (int e = k.row_offsets()[v]; e < k.row_offsets()[v + 1]; ++e) {
+      const int c = k.block_columns()[e];
+      if (constrained[c]) coupling.noalias() += k.block(e) * known.segment<3>(3 * c);
+    }
+    b.segment<3>(3 * v) -= m_stiffness_scale * coupling;
+  }
 }
 
 void StepSystem::update_preconditioner() {
+  compute_inverse_diagonal();
+}
+
+void StepSystem::compute_inverse_diagonal() const {
   const int n = static_cast<int>(m_mass->size());
   m_inverse_diagonal.resize(n);
 #pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
@@ -76,6 +87,8 @@ void StepSystem::update_preconditioner() {
 
 void StepSystem::precondition(const Eigen::VectorXd& r, Eigen::VectorXd& y) const {
   const int n = static_cast<int>(m_mass->size());
+  // Built on first use: steps solved by multigrid never need it.
+  if (static_cast<int>(m_inverse_diagonal.size()) != n) compute_inverse_diagonal();
   y.resize(r.size());
 #pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
   for (int v = 0; v < n; ++v) y.segment<3>(3 * v) = m_inverse_diagonal[v] * r.segment<3>(3 * v);

@@ -41,7 +41,7 @@ class StepSystem {
   // Moves the known values of the constrained vertices (taken from `known`) into b:
   // b_free -= A_free,constrained known_c; b_c = known_c.
   void eliminate(const Eigen::VectorXd& known, Eigen::VectorXd& b) const;
-  // y = P^{-1} r with P the block diagonal of A.
+  // y = P^{-1} r with P the block diagonal of A (its inverse blocks computed on the first call).
   void precondition(const Eigen::VectorXd& r, Eigen::VectorXd& y) const;
   // Recomputes the inverse diagonal blocks (after the stiffness values changed).
   void update_preconditioner();
@@ -53,7 +53,8 @@ class StepSystem {
   double m_mass_scale;
   double m_stiffness_scale;
   const std::vector<char>* m_constrained;
-  std::vector<Eigen::Matrix3d> m_inverse_diagonal;
+  void compute_inverse_diagonal() const;
+  mutable std::vector<Eigen::Matrix3d> m_inverse_diagonal;  // empty until first needed
 };
 
 // Solves A x = b from the initial guess in x. Throws Error when the iteration produces

@@ -134,6 +134,17 @@ void ClusterSmoother::build(const BlockRowMatrix<double>& a,
     m_inverse_offsets[c + 1] = m_inverse_offsets[c] + dim * dim;
   }
   m_inverses.assign(static_cast<std::size_t>(m_inverse_offsets.back()), 0.0);
+  // Blocks of each merged cluster's diagonal block (p, q), -1 when not stored; found once.
+  m_block_ref_offsets.assign(clusters + 1, 0);
+  m_block_refs.clear();
+  for (int c = 0; c < clusters; ++c) {
+    const int first = m_cluster_offsets[c], size = m_cluster_offsets[c + 1] - first;
+    if (size > 1)
+      for (int p = 0; p < size; ++p)
+        for (int q = 0; q < size; ++q)
+          m_block_refs.push_back(a.find(m_vertices[first + p], m_vertices[first + q]));
+    m_block_ref_offsets[c + 1] = static_cast<int>(m_block_refs.size());
+  }
 }
 
 void ClusterSmoother::factor(const BlockRowMatrix<double>& a, int level) {
@@ -152,8 +163,11 @@ void ClusterSmoother::factor(const BlockRowMatrix<double>& a, int level) {
       stored = inverse;
       continue;
     }
-    const ClusterMatrix block = cluster_block(
-        a, std::vector<int>(m_vertices.begin() + first, m_vertices.begin() + first + size));
+    ClusterMatrix block = ClusterMatrix::Zero(3 * size, 3 * size);
+    const int* refs = m_block_refs.data() + m_block_ref_offsets[c];
+    for (int p = 0; p < size; ++p)
+      for (int q = 0; q < size; ++q)
+        if (const int k = refs[size * p + q]; k >= 0) block.block<3, 3>(3 * p, 3 * q) = a.block(k);
     const Eigen::LLT<ClusterMatrix> llt(block);
     if (llt.info() != Eigen::Success) {
       failed = std::max(failed, c);

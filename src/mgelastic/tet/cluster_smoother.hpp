@@ -62,6 +62,10 @@ class ClusterSmoother {
   std::vector<int> m_order;             // clusters sorted by colour
   std::vector<long long> m_inverse_offsets;
   std::vector<double> m_inverses;
+  // Merged clusters: index in `a` of each 3x3 block of the cluster's diagonal block (row-major
+  // over member pairs, -1 when not stored), so factor() does no search.
+  std::vector<int> m_block_ref_offsets{0};
+  std::vector<int> m_block_refs;
 };
 
 }  // namespace mgelastic::tet

@@ -42,7 +42,6 @@ CorotatedAssembler::CorotatedAssembler(const TetBody& body)
         block_of_source[16 * e + 4 * a + b] = m_refs[e][4 * a + b];
       }
     }
-  build_csr(block_of_source, m_stiffness.block_count(), m_source_offsets, m_sources);
   m_gradients.resize(body.element_count());
   m_lame_volume.resize(body.element_count());
   m_rotated.resize(body.element_count());
@@ -50,6 +49,27 @@ CorotatedAssembler::CorotatedAssembler(const TetBody& body)
     m_gradients[e] = shape_gradients(body.rest_edge_inverse(e));
     m_lame_volume[e] = body.volume(e) * lame_parameters(body.materials()[e]);
   }
+  // Rotation-independent part of every block: sum over its sources of mu V (g_a . g_b).
+  const int blocks = m_stiffness.block_count();
+  m_shifts.assign(blocks, 0.0);
+  for (int e = 0; e < body.element_count(); ++e)
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b)
+        m_shifts[m_refs[e][4 * a + b]] +=
+            m_lame_volume[e][1] * m_gradients[e].col(a).dot(m_gradients[e].col(b));
+  // Only upper blocks (row <= column) are gathered; a lower block is its mirror's transpose.
+  std::vector<int> row_of_block(blocks);
+  for (int i = 0; i < m_stiffness.block_rows(); ++i)
+    for (int k = m_stiffness.row_offsets()[i]; k < m_stiffness.row_offsets()[i + 1]; ++k)
+      row_of_block[k] = i;
+  m_mirror.assign(blocks, -1);
+  for (int k = 0; k < blocks; ++k) {
+    const int column = m_stiffness.block_columns()[k];
+    if (column < row_of_block[k]) m_mirror[k] = m_stiffness.find(column, row_of_block[k]);
+  }
+  for (int& block : block_of_source)
+    if (m_mirror[block] >= 0) block = blocks;  // dropped: sorted past the last block
+  build_csr(block_of_source, blocks + 1, m_source_offsets, m_sources);
   build_csr(vertex_of_corner, body.vertex_count(), m_corner_offsets, m_corners);
 }
 
@@ -59,20 +79,25 @@ void CorotatedAssembler::assemble(const RotationField& rotations) {
   for (int e = 0; e < elements; ++e)
     m_rotated[e].noalias() = rotations.rotation(e) * m_gradients[e];
   const int count = m_stiffness.block_count();
-#pragma omp parallel for schedule(static) if (count >= kMinParallelItems)
-  for (int k = 0; k < count; ++k) {
-    Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
-    double shift = 0.0;
-    for (int s = m_source_offsets[k]; s < m_source_offsets[k + 1]; ++s) {
-      const int e = m_sources[s] / 16, local = m_sources[s] % 16;
-      const int a = local / 4, b = local % 4;
-      const Eigen::Vector3d ha = m_rotated[e].col(a), hb = m_rotated[e].col(b);
-      const Eigen::Vector2d& lame = m_lame_volume[e];
-      sum.noalias() += (lame[0] * ha) * hb.transpose() + (lame[1] * hb) * ha.transpose();
-      shift += lame[1] * m_gradients[e].col(a).dot(m_gradients[e].col(b));
+#pragma omp parallel if (count >= kMinParallelItems)
+  {
+#pragma omp for schedule(static)
+    for (int k = 0; k < count; ++k) {
+      if (m_mirror[k] >= 0) continue;
+      Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+      for (int s = m_source_offsets[k]; s < m_source_offsets[k + 1]; ++s) {
+        const int e = m_sources[s] / 16, local = m_sources[s] % 16;
+        const Eigen::Vector3d ha = m_rotated[e].col(local / 4), hb = m_rotated[e].col(local % 4);
+        const Eigen::Vector2d& lame = m_lame_volume[e];
+        sum.noalias() += (lame[0] * ha) * hb.transpose() + (lame[1] * hb) * ha.transpose();
+      }
+      sum.diagonal().array() += m_shifts[k];
+      m_stiffness.block(k) = sum;
     }
-    sum.diagonal().array() += shift;
-    m_stiffness.block(k) = sum;
+    // After the barrier: a mirror block may belong to another thread's range.
+#pragma omp for schedule(static)
+    for (int k = 0; k < count; ++k)
+      if (m_mirror[k] >= 0) m_stiffness.block(k) = m_stiffness.block(m_mirror[k]).transpose();
   }
 }
 

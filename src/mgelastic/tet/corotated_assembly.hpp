@@ -8,7 +8,9 @@
 //   elastic energy      W_e  = 1/2 (Q^T x - X)^T K (Q^T x - X)
 // K~ is assembled into a BlockRowMatrix with the tet pattern. Each element stores direct
 // references (indices into the block value array) to its 16 destination blocks, found once by
-// search at construction, so the per-step assembly does no search. For parallel assembly without
+// search at construction, so the per-step assembly does no search. K~ is symmetric: only the
+// upper blocks (row <= column) are summed, each lower block is copied as its mirror's transpose.
+// For parallel assembly without
 // races the references are also stored transposed: per destination block, the (element, local
 // block) pairs that add to it, in increasing element order. One parallel loop over destination
 // blocks then gathers its sum (one fork/join per assembly, no colouring barriers, no atomics).
@@ -18,10 +20,11 @@
 //   K_ab = V (lambda g_a g_b^T + mu g_b g_a^T + mu (g_a . g_b) I),
 // so with h_a = Q g_a (rotated gradients, computed once per element and step)
 //   Q K_ab Q^T = V (lambda h_a h_b^T + mu h_b h_a^T + mu (g_a . g_b) I),
-// two outer products per block instead of two 3x3 matrix products and a 72-byte block load (the
-// 12x12 K_e are 1152 bytes per element: streaming them dominated the assembly). Likewise the
-// force K_e d (d = Q^T x - X, per corner) is V sigma(H) g_a with H = sum_b d_b g_b^T and
-// sigma(H) = lambda tr(H) I + mu (H + H^T) (the element's constant stress).
+// two outer products per block (the last term does not depend on Q: summed once per block) instead
+// of two 3x3 matrix products and a 72-byte block load (the 12x12 K_e are 1152 bytes per element:
+// streaming them dominated the assembly). Likewise the force K_e d (d = Q^T x - X, per corner) is V
+// sigma(H) g_a with H = sum_b d_b g_b^T and sigma(H) = lambda tr(H) I + mu (H + H^T) (the element's
+// constant stress).
 #include <Eigen/Core>
 #include <array>
 #include <vector>
@@ -57,8 +60,13 @@ class CorotatedAssembler {
   std::vector<std::array<int, 16>> m_refs;
   // Transposed references: sources of block k are m_sources[m_source_offsets[k] ..
   // m_source_offsets[k+1]), each 16 e + (4 a + b).
+  // Only upper blocks (row <= column) have sources; lower blocks have none.
   std::vector<int> m_source_offsets;
   std::vector<int> m_sources;
+  // Per block: index of its transpose when it is a lower block (copied from it), else -1.
+  std::vector<int> m_mirror;
+  // Per block: sum of mu V (g_a . g_b) over its sources (the rotation-independent diagonal).
+  std::vector<double> m_shifts;
   // Per element: rest shape gradients (columns g_a), (lambda V, mu V), rotated gradients Q g_a.
   std::vector<Eigen::Matrix<double, 3, 4>> m_gradients;
   std::vector<Eigen::Vector2d> m_lame_volume;

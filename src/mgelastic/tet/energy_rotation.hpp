@@ -17,7 +17,7 @@
 // eigenvectors of N and the minimizer is the one of the largest eigenvalue.
 //
 // Speed: the iteration runs first on the constraint surface itself (q kept unit, lambda
-// eliminated: a 3x3 Cholesky per step in the sphere's tangent coordinates, whose positive
+// eliminated: a closed-form 3x3 LDL^T per step in the sphere's tangent coordinates, whose positive
 // definiteness is the second-order minimizer test); the (q, lambda) Newton below runs only when
 // that fast path fails (indefinite tangent Hessian, iteration cap).
 //
@@ -37,6 +37,9 @@ struct NewtonSettings {
   double tolerance = 1e-13;
   // Largest quaternion change per Newton step (a unit quaternion has norm 1).
   double max_step = 0.5;
+  // Fast path: a step shorter than this ends the iteration without another evaluation (the
+  // next gradient would be ~ step^3 relative, far below `tolerance`).
+  double converged_step = 1e-6;
 };
 
 struct RotationFit {
@@ -57,5 +60,11 @@ double rotation_energy(const Eigen::Vector4d& q, const Eigen::Matrix4d& n, doubl
 // on exit, always unit length and finite when the inputs are finite.
 RotationFit minimize_rotation_energy(const Eigen::Matrix3d& moment, double deformed_moment,
                                      Eigen::Quaterniond& q, const NewtonSettings& settings = {});
+
+// The same minimizer by the (q, lambda) Newton of Eqs. 5-8 alone (no sphere fast path; the
+// eigen-decomposition when it fails): the reference the fast path is tested against.
+RotationFit minimize_rotation_energy_reference(const Eigen::Matrix3d& moment,
+                                               double deformed_moment, Eigen::Quaterniond& q,
+                                               const NewtonSettings& settings = {});
 
 }  // namespace mgelastic::tet

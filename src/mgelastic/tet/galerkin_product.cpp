@@ -22,6 +22,11 @@ void check_sizes(const BlockRowMatrix<double>& fine, const Prolongation& p) {
          std::to_string(fine.block_rows()) + " block rows");
 }
 
+// Pairs ahead whose destination block the walk prefetches, on coarse matrices of at least
+// kPrefetchBytes.
+constexpr int kPrefetchPairs = 8;
+constexpr std::size_t kPrefetchBytes = 16u << 20;
+
 // Streams above this many pairs in total are walked in parallel.
 constexpr std::size_t kMinParallelPairs = 20000;
 
@@ -93,18 +98,18 @@ GalerkinStream::GalerkinStream(const BlockRowMatrix<double>& fine, const Prolong
   const int nc = coarse.block_rows();
   std::vector<long long> row_pairs(nc, 0);
   long long total = 0;
-  for (int i = 0; i < fine.block_rows(); ++i) {
-    int free_j = 0;
+  for (int i = 0; i < fine.block_rows(); ++i)
     for (int k = fine.row_offsets()[i]; k < fine.row_offsets()[i + 1]; ++k) {
       const int j = fine.block_columns()[k];
-      for (int t = 0; t < 4; ++t) free_j += p.weights[j][t] != 0.0;
-    }
-    for (int s = 0; s < 4; ++s)
-      if (p.weights[i][s] != 0.0) {
-        row_pairs[p.vertices[i][s]] += free_j;
-        total += free_j;
+      for (int s = 0; s < 4; ++s) {
+        if (p.weights[i][s] == 0.0) continue;
+        for (int t = 0; t < 4; ++t)
+          if (p.weights[j][t] != 0.0 && p.vertices[j][t] >= p.vertices[i][s]) {
+            ++row_pairs[p.vertices[i][s]];
+            ++total;
+          }
       }
-  }
+    }
   m_streams.resize(streams);
   {
     int row = 0;
@@ -138,7 +143,8 @@ GalerkinStream::GalerkinStream(const BlockRowMatrix<double>& fine, const Prolong
           const int a = p.vertices[i][u];
           if (p.weights[i][u] == 0.0 || a < stream.row_begin || a >= stream.row_end) continue;
           for (int t = 0; t < 4; ++t) {
-            if (p.weights[j][t] == 0.0) continue;
+            // Upper blocks only (a <= b); the lower ones are their transposes.
+            if (p.weights[j][t] == 0.0 || p.vertices[j][t] < a) continue;
             const int e = coarse.find(a, p.vertices[j][t]);
             if (e < 0) {
               missing = 1;  // thrown after the parallel region
@@ -164,6 +170,14 @@ GalerkinStream::GalerkinStream(const BlockRowMatrix<double>& fine, const Prolong
     stream.destinations.shrink_to_fit();
   }
   if (missing != 0) fail("coarse pattern misses a block of P^T K P");
+  m_mirror.assign(m_coarse_blocks, -1);
+  for (int a = 0; a < nc; ++a)
+    for (int e = coarse.row_offsets()[a]; e < coarse.row_offsets()[a + 1]; ++e) {
+      const int b = coarse.block_columns()[e];
+      if (b >= a) continue;
+      m_mirror[e] = coarse.find(b, a);
+      if (m_mirror[e] < 0) fail("coarse pattern is not symmetric");
+    }
 }
 
 void GalerkinStream::update(const BlockRowMatrix<double>& fine,
@@ -171,22 +185,42 @@ void GalerkinStream::update(const BlockRowMatrix<double>& fine,
   if (fine.block_count() != m_fine_blocks || coarse.block_count() != m_coarse_blocks)
     fail("matrices differ from the patterns the streams were built for");
   const int streams = stream_count();
-#pragma omp parallel for schedule(static, 1) if (streams > 1 && pair_count() >= kMinParallelPairs)
-  for (int s = 0; s < streams; ++s) {
-    const Stream& stream = m_streams[s];
-    // Each stream owns the blocks of its destination rows: zero them, then walk.
-    for (int e = coarse.row_offsets()[stream.row_begin]; e < coarse.row_offsets()[stream.row_end];
-         ++e)
-      coarse.block(e).setZero();
-    const double* weight = stream.weights.data();
-    const std::int32_t* destination = stream.destinations.data();
-    int k = stream.first_block - 1;
-    for (const std::uint8_t c : stream.control) {
-      k += c >> 7;  // fetch-next bit
-      const Eigen::Matrix3d& source = fine.block(k);
-      for (int n = c & 0x7f; n > 0; --n, ++weight, ++destination)
-        coarse.block(*destination).noalias() += *weight * source;
+  const bool prefetch =
+      static_cast<std::size_t>(m_coarse_blocks) * sizeof(Eigen::Matrix3d) >= kPrefetchBytes;
+#pragma omp parallel if (streams > 1 && pair_count() >= kMinParallelPairs)
+  {
+#pragma omp for schedule(static, 1)
+    for (int s = 0; s < streams; ++s) {
+      const Stream& stream = m_streams[s];
+      // Each stream owns the blocks of its destination rows: zero them, then walk.
+      for (int e = coarse.row_offsets()[stream.row_begin]; e < coarse.row_offsets()[stream.row_end];
+           ++e)
+        coarse.block(e).setZero();
+      const double* weight = stream.weights.data();
+      const std::int32_t* destination = stream.destinations.data();
+      // On large levels the destination blocks are scattered over an E beyond the caches: fetch
+      // the one kPrefetchPairs ahead while this one is updated (measured at 527k tets: stream
+      // 145 -> 125 ms under load; no gain measurable on small levels, so only there).
+      const std::ptrdiff_t pairs = static_cast<std::ptrdiff_t>(stream.destinations.size());
+      const std::int32_t* prefetch_end =
+          destination + (prefetch ? std::max<std::ptrdiff_t>(0, pairs - kPrefetchPairs) : 0);
+      int k = stream.first_block - 1;
+      for (const std::uint8_t c : stream.control) {
+        k += c >> 7;  // fetch-next bit
+        const Eigen::Matrix3d& source = fine.block(k);
+        for (int n = c & 0x7f; n > 0; --n, ++weight, ++destination) {
+          if (destination < prefetch_end)
+            __builtin_prefetch(coarse.block(destination[kPrefetchPairs]).data(), 1);
+          coarse.block(*destination).noalias() += *weight * source;
+        }
+      }
     }
+    // Lower blocks from the upper ones (after the barrier: their rows may be another stream's).
+#pragma omp for schedule(static, 1)
+    for (int s = 0; s < streams; ++s)
+      for (int e = coarse.row_offsets()[m_streams[s].row_begin];
+           e < coarse.row_offsets()[m_streams[s].row_end]; ++e)
+        if (m_mirror[e] >= 0) coarse.block(e) = coarse.block(m_mirror[e]).transpose();
   }
 }
 
@@ -201,7 +235,7 @@ std::size_t GalerkinStream::memory_bytes() const {
   for (const Stream& s : m_streams)
     bytes += s.control.size() + s.weights.size() * sizeof(double) +
              s.destinations.size() * sizeof(std::int32_t);
-  return bytes;
+  return bytes + m_mirror.size() * sizeof(int);
 }
 
 }  // namespace mgelastic::tet

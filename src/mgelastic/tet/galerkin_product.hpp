@@ -21,6 +21,9 @@
 //              clear. A block of K that feeds nothing in this stream costs one byte 0x80.
 //     data:    per pair, weight w_ia w_jb (double) and the index of block (a, b) in E's value
 //              array (int32), in two aligned arrays (12 bytes per pair).
+//   Symmetry: K and P^T K P are symmetric, so the streams hold only the pairs of upper blocks
+//   (a <= b), about half of all pairs; each lower block is then the transpose of its mirror
+//   (an index per coarse block, found once).
 //   Multithreading without write races: E's block rows are split into contiguous ranges of about
 //   equal pair counts, one stream per range containing only the pairs whose destination row a is
 //   in the range. Streams are walked in parallel; each destination block receives its terms in K's
@@ -71,6 +74,8 @@ class GalerkinStream {
     std::vector<std::int32_t> destinations;
   };
   std::vector<Stream> m_streams;
+  // Per coarse block (a, b): index of (b, a) when a > b (copied as its transpose), else -1.
+  std::vector<int> m_mirror;
   int m_fine_blocks = 0;
   int m_coarse_blocks = 0;
 };

@@ -15,6 +15,14 @@ RotationField::RotationField(const TetBody& body, RotationMethod method, NewtonS
   for (int e = 0; e < body.element_count(); ++e) m_volumes[e] = body.volume(e);
   if (method == RotationMethod::POLAR_SMOOTHED)
     m_ring = element_one_ring(body.tets(), body.vertex_count());
+  if (method == RotationMethod::ENERGY_MINIMIZATION) {
+    m_weighted_rest_offsets.resize(body.element_count());
+    for (int e = 0; e < body.element_count(); ++e) {
+      const TetCorners rest = body.corners(e, body.rest_positions());
+      m_weighted_rest_offsets[e] =
+          std::abs(m_volumes[e]) / 20.0 * (rest.colwise() - rest.rowwise().mean());
+    }
+  }
   reset();
 }
 
@@ -64,12 +72,14 @@ void RotationField::update_energy_minimization(const Eigen::VectorXd& positions,
 #pragma omp parallel for schedule(static) if (count >= kMinParallelElements) reduction(+ : total_iterations, fallbacks) \
     reduction(max : max_iterations)
   for (int e = 0; e < count; ++e) {
-    const Eigen::Matrix3d f =
-        deformation_gradient(m_body->corners(e, positions), m_body->rest_edge_inverse(e));
-    const Eigen::Matrix3d b = f * m_body->second_moment(e);
+    const TetCorners x = m_body->corners(e, positions);
+    const Eigen::Matrix<double, 3, 4> offsets = x.colwise() - 0.25 * x.rowwise().sum();
+    const Eigen::Matrix<double, 3, 4>& rest = m_weighted_rest_offsets[e];
+    const Eigen::Matrix3d b = offsets * rest.transpose();
+    const double t = std::abs(m_volumes[e]) / 20.0 * offsets.squaredNorm();
     // The paper's q rotates deformed into rest (Q^T): warm-start from the conjugate of Q.
     Eigen::Quaterniond q = m_quaternions[e].conjugate();
-    const RotationFit fit = minimize_rotation_energy(b, (b * f.transpose()).trace(), q, m_newton);
+    const RotationFit fit = minimize_rotation_energy(b, t, q, m_newton);
     m_quaternions[e] = q.conjugate();
     m_rotations[e] = m_quaternions[e].toRotationMatrix();
     total_iterations += fit.iterations;

@@ -55,6 +55,10 @@ class RotationField {
   std::vector<Eigen::Quaterniond> m_quaternions;
   std::vector<Eigen::Quaterniond> m_scratch;
   std::vector<double> m_volumes;
+  // Energy minimization: rest corner offsets from the centroid times V/20, so that with the
+  // deformed offsets D (3x4) B = F S = D R^T and T = tr(F S F^T) = V/20 |D|^2 (S = V/20 r r^T
+  // is a linear tet's exact second moment): no F, no S per step.
+  std::vector<Eigen::Matrix<double, 3, 4>> m_weighted_rest_offsets;
   ElementOneRing m_ring;  // built only for POLAR_SMOOTHED
 };
 

@@ -120,6 +120,17 @@ TetStepBenchmark run_tet_step_benchmark(const TetStepBenchmarkOptions& options) 
       continue;
     }
     const MultigridUpdateTimes stream = mg.update_times();
+    r.rotate_seconds += stats.rotate_seconds / n;
+    r.assemble_seconds += stats.assemble_seconds / n;
+    r.fine_operator_seconds += stream.fine_seconds / n;
+    r.galerkin_stream_seconds += stream.galerkin_seconds / n;
+    r.factor_seconds += stream.factor_seconds / n;
+    r.solve_seconds += stats.solve_seconds / n;
+    r.step_seconds += step_seconds / n;
+    r.step_cpu_seconds += step_cpu / n;
+    r.step_residual += stats.solve.relative_residual / n;
+    r.newton_iterations += stats.rotation.mean_newton_iterations / n;
+    if (options.steps_only) continue;
     mg.update_coarse(GalerkinMethod::NAIVE);
     const double naive = mg.update_times().galerkin_seconds;
     mg.update_coarse(GalerkinMethod::STREAM);
@@ -140,16 +151,7 @@ TetStepBenchmark run_tet_step_benchmark(const TetStepBenchmarkOptions& options) 
     const MultigridResult cycles = mg.solve(b, x, options.tolerance, 500);
     r.vcycles_to_tolerance_seconds += timer.seconds() / n;
     r.vcycles_to_tolerance += cycles.cycles / n;
-    r.rotate_seconds += stats.rotate_seconds / n;
-    r.assemble_seconds += stats.assemble_seconds / n;
-    r.fine_operator_seconds += stream.fine_seconds / n;
-    r.galerkin_stream_seconds += stream.galerkin_seconds / n;
-    r.factor_seconds += stream.factor_seconds / n;
     r.galerkin_naive_seconds += naive / n;
-    r.solve_seconds += stats.solve_seconds / n;
-    r.step_seconds += step_seconds / n;
-    r.step_cpu_seconds += step_cpu / n;
-    r.step_residual += stats.solve.relative_residual / n;
   }
   const TetMultigrid& mg = *solver.multigrid();
   r.levels = mg.level_count();
@@ -160,6 +162,8 @@ TetStepBenchmark run_tet_step_benchmark(const TetStepBenchmarkOptions& options) 
     r.smoother_colors = mg.smoother(0).color_count();
     r.smoother_clustered_vertices = mg.smoother(0).clustered_vertices();
   }
+  r.steps_per_second = 1.0 / r.step_seconds;
+  if (options.steps_only) return r;
   if (options.external_solver) {
     const StepSystem system(solver.stiffness(), solver.body().vertex_mass(), 1.0, kStep * kStep,
                             fixed);
@@ -174,7 +178,6 @@ TetStepBenchmark run_tet_step_benchmark(const TetStepBenchmarkOptions& options) 
     if (c == 3) r3 = res.norm();
   }
   r.vcycle_rate = std::pow(res.norm() / r3, 1.0 / 7.0);
-  r.steps_per_second = 1.0 / r.step_seconds;
   const double multigrid_part =
       r.fine_operator_seconds + r.galerkin_stream_seconds + r.factor_seconds + r.solve_seconds;
   r.baseline_steps_per_second = 1.0 / (r.step_seconds - multigrid_part + r.baseline_pcg_seconds);

@@ -49,6 +49,8 @@ struct TetStepBenchmarkOptions {
   double tolerance = 1e-6;
   TetMultigridSettings multigrid;
   ExternalSolver external_solver;  // empty: none
+  // Only the steps: no naive product, baseline solves or rate (for profiling the step alone).
+  bool steps_only = false;
 };
 
 struct TetStepBenchmark {
@@ -59,11 +61,12 @@ struct TetStepBenchmark {
   double rotate_seconds = 0.0, assemble_seconds = 0.0;
   double fine_operator_seconds = 0.0;  // A_0 = M + h^2 K~ copied into the multigrid
   double galerkin_naive_seconds = 0.0, galerkin_stream_seconds = 0.0;
-  double factor_seconds = 0.0;    // coarsest Cholesky and smoother diagonals
-  double solve_seconds = 0.0;     // the step's V-cycles and residual
-  double step_seconds = 0.0;      // CorotatedSolver::step() wall time (forces and update included)
-  double step_cpu_seconds = 0.0;  // CPU time of the process over the step (all threads)
-  double step_residual = 0.0;     // mean relative residual of the step after its V-cycles
+  double factor_seconds = 0.0;     // coarsest Cholesky and smoother diagonals
+  double solve_seconds = 0.0;      // the step's V-cycles and residual
+  double step_seconds = 0.0;       // CorotatedSolver::step() wall time (forces and update included)
+  double step_cpu_seconds = 0.0;   // CPU time of the process over the step (all threads)
+  double step_residual = 0.0;      // mean relative residual of the step after its V-cycles
+  double newton_iterations = 0.0;  // energy minimization: mean Newton iterations per element
   double mg_pcg_seconds = 0.0, baseline_pcg_seconds = 0.0, vcycles_to_tolerance_seconds = 0.0;
   double mg_pcg_iterations = 0.0, baseline_pcg_iterations = 0.0, vcycles_to_tolerance = 0.0;
   double vcycle_rate = 0.0;  // residual reduction per V-cycle (cycles 4..10, random b)
