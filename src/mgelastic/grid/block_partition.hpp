@@ -57,7 +57,8 @@ template <int Dim, typename F>
 void for_each_row_in_block(const Lattice<Dim>& lattice, const Block<Dim>& block, F&& f) {
   const int length = block.hi[0] - block.lo[0];
   if constexpr (Dim == 2) {
-    for (int y = block.lo[1]; y < block.hi[1]; ++y) f(lattice.index(IVec<2>(block.lo[0], y)), length);
+    for (int y = block.lo[1]; y < block.hi[1]; ++y)
+      f(lattice.index(IVec<2>(block.lo[0], y)), length);
   } else {
     for (int z = block.lo[2]; z < block.hi[2]; ++z)
       for (int y = block.lo[1]; y < block.hi[1]; ++y)

@@ -34,7 +34,8 @@ void for_each_colored_row(const Level<Dim, Scalar>& level, F&& visit) {
   for (const auto& color : level.blocks.colors) {
     const auto count = static_cast<std::ptrdiff_t>(color.size());
 #pragma omp parallel for schedule(dynamic, 1)
-    for (std::ptrdiff_t b = 0; b < count; ++b) for_each_row_in_block(level.lattice, color[b], visit);
+    for (std::ptrdiff_t b = 0; b < count; ++b)
+      for_each_row_in_block(level.lattice, color[b], visit);
   }
 }
 
@@ -150,8 +151,8 @@ bool all_neighbors_interior(const Level<Dim, Scalar>& level, const Views<Dim, Sc
 // step moves u_x[k] by delta/h and p[k] by -2 delta/h^2, which raises this cell's residual
 // (times lambda) by (lambda mu + 2 mu^2) delta / h^2, whether its step is restricted or not.
 template <int Dim, typename Scalar>
-void relax_pressure_chunk(const Level<Dim, Scalar>& level, Views<Dim, Scalar>& v,
-                          std::ptrdiff_t k0, int n) {
+void relax_pressure_chunk(const Level<Dim, Scalar>& level, Views<Dim, Scalar>& v, std::ptrdiff_t k0,
+                          int n) {
   const Relaxation* relax = level.relaxation[Dim].data();
   const Scalar* b = level.b[Dim].data();
   const Scalar mu = level.mu, lambda = level.lambda;
