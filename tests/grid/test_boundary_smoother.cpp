@@ -197,7 +197,7 @@ void expect_schedule_holds(const Level<Dim, float>& level,
 
 TEST(BandSmoother, RelocationSchedulesHoldTheFig8RowsBlockByBlock) {
   BoxSpec spec;
-  spec.cells = 40;  // blocks of 16 x 8 x 8 cells, some cut by the box
+  spec.cells = 40;  // blocks of 64 x 8 x 8 cells, cut by the box
   spec.poisson_ratio = 0.48;
   const Multigrid<3, float> mg(make_box_problem<3>(spec));
   const Level<3, float>& fine = mg.finest();
