@@ -7,9 +7,12 @@ IVec<2> default_block_size<2>() {
   return IVec<2>(16, 16);
 }
 
+// Long x-rows: the sweeps stream each block row by row, and at 128^3 rows of 16 cells (one
+// cache line per field) left the hardware prefetchers idle; 64 made the distributive and band
+// sweeps about 1.8x and 1.4x cheaper at the same convergence rate (docs/performance.md).
 template <>
 IVec<3> default_block_size<3>() {
-  return IVec<3>(16, 8, 8);
+  return IVec<3>(64, 8, 8);
 }
 
 template <int Dim>

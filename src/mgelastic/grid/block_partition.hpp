@@ -1,6 +1,6 @@
 #pragma once
 // Colored rectangular blocks for multithreaded Gauss-Seidel (Sec. 9.4, Fig. 19): the real cells
-// of a lattice are cut into blocks (default 16 x 8 x 8 cells; 16 x 16 in 2D) and each block gets
+// of a lattice are cut into blocks (default 64 x 8 x 8 cells; 16 x 16 in 2D) and each block gets
 // the color given by the parity of its block index along every axis, 2^d colors. Two blocks of
 // one color are at least one block apart, wider than any stencil's reach (2 cells), so blocks of
 // one color are relaxed concurrently without locks. The traversal order is fixed, so results do
@@ -49,6 +49,20 @@ void for_each_in_block(const Lattice<Dim>& lattice, const Block<Dim>& block, F&&
         const std::ptrdiff_t row = lattice.index(IVec<3>(0, y, z));
         for (int x = block.lo[0]; x < block.hi[0]; ++x) f(row + x);
       }
+  }
+}
+
+// Calls f(k, n) for every x-row segment of the block: flat index of its first point, length.
+template <int Dim, typename F>
+void for_each_row_in_block(const Lattice<Dim>& lattice, const Block<Dim>& block, F&& f) {
+  const int length = block.hi[0] - block.lo[0];
+  if constexpr (Dim == 2) {
+    for (int y = block.lo[1]; y < block.hi[1]; ++y)
+      f(lattice.index(IVec<2>(block.lo[0], y)), length);
+  } else {
+    for (int z = block.lo[2]; z < block.hi[2]; ++z)
+      for (int y = block.lo[1]; y < block.hi[1]; ++y)
+        f(lattice.index(IVec<3>(block.lo[0], y, z)), length);
   }
 }
 

@@ -124,6 +124,30 @@ void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps,
 }
 
 template <int Dim, typename Scalar>
+void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps,
+                       const typename Level<Dim, Scalar>::RowSchedule& schedule) {
+  update_band_pressures(level);
+  if (level.band_kernel.rows() != level.band_u.rows()) build_band_kernel(level);
+  const BandSweep<Dim, Scalar> band(level);
+  // Rows of one color's blocks touch disjoint variables (block_partition.hpp).
+  auto for_each_block = [&](auto&& relax_rows) {
+    for (const auto& color : schedule) {
+      const auto count = static_cast<std::ptrdiff_t>(color.size());
+#pragma omp parallel for schedule(dynamic, 1)
+      for (std::ptrdiff_t b = 0; b < count; ++b) relax_rows(color[b]);
+    }
+  };
+  auto& rhs = level.band_kernel.rhs;
+  for_each_block([&](const std::vector<std::uint32_t>& rows) {
+    for (std::uint32_t m : rows) rhs[m] = row_rhs(level, level.band_u, m);
+  });
+  for (int sweep = 0; sweep < sweeps; ++sweep)
+    for_each_block([&](const std::vector<std::uint32_t>& rows) {
+      for (std::uint32_t m : rows) band.relax_row(m);
+    });
+}
+
+template <int Dim, typename Scalar>
 void back_substitute_traction(Level<Dim, Scalar>& level) {
   const Scalar h = static_cast<Scalar>(level.lattice.h);
   const Scalar mu = level.mu;
@@ -152,6 +176,8 @@ void back_substitute_traction(Level<Dim, Scalar>& level) {
 #define MGELASTIC_INSTANTIATE(D, S)                                                            \
   template void update_band_pressures<D, S>(Level<D, S>&);                                     \
   template void band_gauss_seidel<D, S>(Level<D, S>&, int, const std::vector<std::uint32_t>*); \
+  template void band_gauss_seidel<D, S>(Level<D, S>&, int,                                     \
+                                        const typename Level<D, S>::RowSchedule&);             \
   template void back_substitute_traction<D, S>(Level<D, S>&);
 MGELASTIC_INSTANTIATE(2, float)
 MGELASTIC_INSTANTIATE(2, double)

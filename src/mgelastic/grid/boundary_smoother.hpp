@@ -22,6 +22,12 @@ template <int Dim, typename Scalar>
 void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps,
                        const std::vector<std::uint32_t>* subset = nullptr);
 
+// The same over the rows of a colored row schedule (Level::RowSchedule, e.g. the Fig. 8 rows),
+// block by block in the schedule's order; the blocks of one color run in parallel.
+template <int Dim, typename Scalar>
+void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps,
+                       const typename Level<Dim, Scalar>::RowSchedule& schedule);
+
 // Sets the traction boundary variables from the traction conditions: normal faces first, then
 // the faces half a cell outside (Sec. 5.3), so every boundary condition holds exactly.
 template <int Dim, typename Scalar>

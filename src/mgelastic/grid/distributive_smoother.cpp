@@ -1,5 +1,7 @@
 #include "mgelastic/grid/distributive_smoother.hpp"
 
+#include <algorithm>
+
 #include "mgelastic/grid/stencil.hpp"
 
 namespace mgelastic::grid {
@@ -25,15 +27,27 @@ struct Views {
   }
 };
 
-// Visits every lattice point, color by color; the blocks of one color run in parallel.
+// Visits every x-row segment of every block, color by color (the blocks of one color run in
+// parallel): visit(k, n) gets the flat index of the segment's first point and its length.
 template <int Dim, typename Scalar, typename F>
-void for_each_colored_block(const Level<Dim, Scalar>& level, F&& visit) {
+void for_each_colored_row(const Level<Dim, Scalar>& level, F&& visit) {
   for (const auto& color : level.blocks.colors) {
     const auto count = static_cast<std::ptrdiff_t>(color.size());
 #pragma omp parallel for schedule(dynamic, 1)
-    for (std::ptrdiff_t b = 0; b < count; ++b) for_each_in_block(level.lattice, color[b], visit);
+    for (std::ptrdiff_t b = 0; b < count; ++b)
+      for_each_row_in_block(level.lattice, color[b], visit);
   }
 }
+
+// Lexicographic Gauss-Seidel along an x-row is a recurrence only through the row's previous
+// step: a step moves exactly one value the next point's residual reads, by a fixed multiple of
+// its delta. So each segment is relaxed in three passes: the residuals of all points from the
+// values before the segment (vectorized), the scalar recurrence
+//   delta_x = (r_x - coupling * delta_{x-1}) / diagonal,
+// and the distribution of all deltas (vectorized). The deltas equal those of the point-by-point
+// sweep up to round-off. Segments are cut into chunks of at most kRowChunk points; a chunk's
+// residuals are computed after the previous chunk moved, so nothing carries over.
+constexpr int kRowChunk = 32;
 
 template <int Dim, typename Scalar, int Axis>
 void sweep_momentum(Level<Dim, Scalar>& level, Views<Dim, Scalar>& v) {
@@ -46,34 +60,68 @@ void sweep_momentum(Level<Dim, Scalar>& level, Views<Dim, Scalar>& v) {
   const Scalar inv_diagonal =
       Scalar(-1) / (Scalar(pressure_free ? 2 * Dim + 2 : 2 * Dim) * v.c.mu * v.c.inv_h2 + c);
   const Scalar p_step = pressure_free ? Scalar(0) : v.c.inv_h;
+  // The previous face's step changes this face's row by coupling * delta: through u_i[k - 1]
+  // (weight 2 mu / h^2 along x for u_x, mu / h^2 otherwise) and, for u_x, p[k - 1].
+  const Scalar coupling = Axis == 0 ? Scalar(2) * v.c.mu * v.c.inv_h2 - v.c.mu * v.c.inv_h * p_step
+                                    : v.c.mu * v.c.inv_h2;
   const std::ptrdiff_t si = v.s[Axis];
-  for_each_colored_block(level, [&](std::ptrdiff_t k) {
-    if (relax[k] != Relaxation::DISTRIBUTIVE) return;
-    const Scalar r =
-        b[k] - momentum_row<Dim, Scalar, Axis>(v.u_const, v.p, v.s, k, v.c) + c * v.u[Axis][k];
-    const Scalar delta = r * inv_diagonal;
-    v.u[Axis][k] += delta;
-    v.p[k] -= delta * p_step;
-    v.p[k - si] += delta * p_step;
+  Scalar* __restrict ui = v.u[Axis];
+  Scalar* __restrict p = v.p;
+  for_each_colored_row(level, [&](std::ptrdiff_t row, int length) {
+    for (int first = 0; first < length; first += kRowChunk) {
+      const std::ptrdiff_t k0 = row + first;
+      const int n = std::min(kRowChunk, length - first);
+      Scalar r[kRowChunk];
+      for (int x = 0; x < n; ++x)
+        r[x] = b[k0 + x] - momentum_row<Dim, Scalar, Axis>(v.u_const, p, v.s, k0 + x, v.c) +
+               c * ui[k0 + x];
+      // delta[x + 1] is the step of point x; delta[0] and delta[n + 1] border the chunk.
+      Scalar delta[kRowChunk + 2];
+      delta[0] = 0;
+      for (int x = 0; x < n; ++x) {
+        const bool relaxed = relax[k0 + x] == Relaxation::DISTRIBUTIVE;
+        delta[x + 1] = relaxed ? (r[x] - coupling * delta[x]) * inv_diagonal : Scalar(0);
+      }
+      delta[n + 1] = 0;
+#pragma omp simd
+      for (int x = 0; x < n; ++x) ui[k0 + x] += delta[x + 1];
+      if constexpr (Axis == 0) {
+        // p[k] -= delta_k p_step and p[k - 1] += delta_k p_step, gathered per p[j].
+        p[k0 - 1] += delta[1] * p_step;
+#pragma omp simd
+        for (int x = 0; x < n; ++x) p[k0 + x] += (delta[x + 2] - delta[x + 1]) * p_step;
+      } else {
+#pragma omp simd
+        for (int x = 0; x < n; ++x) {
+          p[k0 + x] -= delta[x + 1] * p_step;
+          p[k0 + x - si] += delta[x + 1] * p_step;
+        }
+      }
+    }
   });
 }
 
 // q step next to Dirichlet cells: the distribution moves only interior faces and interior
 // pressures, so (LM)_pp = (mu n_faces + 4 d D) / h^2 + D c / mu with n_faces the faces it moves
-// and D = mu^2 / lambda.
+// and D = mu^2 / lambda. Returns the step's delta for the residual times lambda.
 template <int Dim, typename Scalar>
-void restricted_pressure_step(Level<Dim, Scalar>& level, Views<Dim, Scalar>& v, std::ptrdiff_t k,
-                              Scalar residual_times_lambda) {
+Scalar restricted_pressure_delta(const Level<Dim, Scalar>& level, const Views<Dim, Scalar>& v,
+                                 std::ptrdiff_t k, Scalar residual_times_lambda) {
   const Scalar mu = level.mu, lambda = level.lambda;
-  const auto& cells = level.cells;
   int moved = 0;
   for (int i = 0; i < Dim; ++i) {
-    moved += cells[k - v.s[i]] == CellType::INTERIOR;
-    moved += cells[k + v.s[i]] == CellType::INTERIOR;
+    moved += level.cells[k - v.s[i]] == CellType::INTERIOR;
+    moved += level.cells[k + v.s[i]] == CellType::INTERIOR;
   }
-  const Scalar delta =
-      residual_times_lambda /
-      ((lambda * mu * Scalar(moved) + Scalar(4 * Dim) * mu * mu) * v.c.inv_h2 + mu * level.inertia);
+  return residual_times_lambda /
+         ((lambda * mu * Scalar(moved) + Scalar(4 * Dim) * mu * mu) * v.c.inv_h2 +
+          mu * level.inertia);
+}
+
+template <int Dim, typename Scalar>
+void restricted_pressure_move(const Level<Dim, Scalar>& level, Views<Dim, Scalar>& v,
+                              std::ptrdiff_t k, Scalar delta) {
+  const auto& cells = level.cells;
   const Scalar du = delta * v.c.inv_h;
   for (int i = 0; i < Dim; ++i) {
     if (cells[k + v.s[i]] == CellType::INTERIOR) {
@@ -85,21 +133,26 @@ void restricted_pressure_step(Level<Dim, Scalar>& level, Views<Dim, Scalar>& v, 
       v.p[k - v.s[i]] -= 2 * delta * v.c.inv_h2;
     }
   }
-  v.p[k] += (Scalar(4 * Dim) * v.c.inv_h2 + level.inertia / mu) * delta;
+  v.p[k] += (Scalar(4 * Dim) * v.c.inv_h2 + level.inertia / v.c.mu) * delta;
 }
 
 template <int Dim, typename Scalar>
 bool all_neighbors_interior(const Level<Dim, Scalar>& level, const Views<Dim, Scalar>& v,
                             std::ptrdiff_t k) {
+  bool all = true;
   for (int i = 0; i < Dim; ++i) {
-    if (level.cells[k - v.s[i]] != CellType::INTERIOR) return false;
-    if (level.cells[k + v.s[i]] != CellType::INTERIOR) return false;
+    all &= level.cells[k - v.s[i]] == CellType::INTERIOR;
+    all &= level.cells[k + v.s[i]] == CellType::INTERIOR;
   }
-  return true;
+  return all;
 }
 
+// The q steps of one row chunk (see sweep_momentum for the three passes). The previous cell's
+// step moves u_x[k] by delta/h and p[k] by -2 delta/h^2, which raises this cell's residual
+// (times lambda) by (lambda mu + 2 mu^2) delta / h^2, whether its step is restricted or not.
 template <int Dim, typename Scalar>
-void sweep_pressure(Level<Dim, Scalar>& level, Views<Dim, Scalar>& v) {
+void relax_pressure_chunk(const Level<Dim, Scalar>& level, Views<Dim, Scalar>& v, std::ptrdiff_t k0,
+                          int n) {
   const Relaxation* relax = level.relaxation[Dim].data();
   const Scalar* b = level.b[Dim].data();
   const Scalar mu = level.mu, lambda = level.lambda;
@@ -108,23 +161,68 @@ void sweep_pressure(Level<Dim, Scalar>& level, Views<Dim, Scalar>& v) {
   const Scalar inv_denominator =
       Scalar(1) / (mu * (lambda + 2 * mu) * Scalar(2 * Dim) * v.c.inv_h2 + mu * level.inertia);
   const Scalar p_center = Scalar(4 * Dim) * v.c.inv_h2 + level.inertia / mu;
-  for_each_colored_block(level, [&](std::ptrdiff_t k) {
-    if (relax[k] != Relaxation::DISTRIBUTIVE) return;
-    const Scalar div = divergence<Dim, Scalar>(v.u_const, v.s, k, v.c.inv_h);
-    const Scalar scaled_residual = lambda * (b[k] - mu * div) - mu * mu * v.p[k];
-    if (!all_neighbors_interior(level, v, k)) {
-      restricted_pressure_step(level, v, k, scaled_residual);
-      return;
+  const Scalar coupling = (lambda * mu + 2 * mu * mu) * v.c.inv_h2;
+  const Scalar* p_const = v.p;
+  Scalar r[kRowChunk];
+  bool regular[kRowChunk];
+  for (int x = 0; x < n; ++x) {
+    const Scalar div = divergence<Dim, Scalar>(v.u_const, v.s, k0 + x, v.c.inv_h);
+    r[x] = lambda * (b[k0 + x] - mu * div) - mu * mu * p_const[k0 + x];
+    regular[x] = all_neighbors_interior(level, v, k0 + x);
+  }
+  // delta[x + 1]: step of cell x, zero where restricted (moved afterwards, point by point).
+  Scalar delta[kRowChunk + 2];
+  Scalar restricted[kRowChunk];
+  delta[0] = 0;
+  Scalar previous = 0;
+  for (int x = 0; x < n; ++x) {
+    Scalar step = 0;
+    if (relax[k0 + x] == Relaxation::DISTRIBUTIVE) {
+      const Scalar scaled_residual = r[x] + coupling * previous;
+      step = regular[x] ? scaled_residual * inv_denominator
+                        : restricted_pressure_delta(level, v, k0 + x, scaled_residual);
     }
-    const Scalar delta = scaled_residual * inv_denominator;
-    const Scalar du = delta * v.c.inv_h;
-    for (int i = 0; i < Dim; ++i) {
-      v.u[i][k + v.s[i]] += du;
-      v.u[i][k] -= du;
-      v.p[k + v.s[i]] -= 2 * delta * v.c.inv_h2;
-      v.p[k - v.s[i]] -= 2 * delta * v.c.inv_h2;
+    previous = step;
+    delta[x + 1] = regular[x] ? step : Scalar(0);
+    restricted[x] = regular[x] ? Scalar(0) : step;
+  }
+  delta[n + 1] = 0;
+  const Scalar two_inv_h2 = 2 * v.c.inv_h2;
+  Scalar* __restrict p = v.p;
+  // u_x[k + 1] += delta_k / h and u_x[k] -= delta_k / h, gathered per face.
+  Scalar* __restrict ux = v.u[0];
+#pragma omp simd
+  for (int x = 0; x <= n; ++x) ux[k0 + x] += (delta[x] - delta[x + 1]) * v.c.inv_h;
+  // p[k] += p_center delta_k and p[k +- 1] -= 2 delta_k / h^2, gathered per cell.
+  p[k0 - 1] -= two_inv_h2 * delta[1];
+#pragma omp simd
+  for (int x = 0; x < n; ++x)
+    p[k0 + x] += p_center * delta[x + 1] - two_inv_h2 * (delta[x] + delta[x + 2]);
+  p[k0 + n] -= two_inv_h2 * delta[n];
+  for (int i = 1; i < Dim; ++i) {
+    const std::ptrdiff_t si = v.s[i];
+    Scalar* __restrict ui = v.u[i];
+#pragma omp simd
+    for (int x = 0; x < n; ++x) {
+      const Scalar du = delta[x + 1] * v.c.inv_h;
+      ui[k0 + x + si] += du;
+      ui[k0 + x] -= du;
     }
-    v.p[k] += p_center * delta;
+#pragma omp simd
+    for (int x = 0; x < n; ++x) {
+      p[k0 + x + si] -= two_inv_h2 * delta[x + 1];
+      p[k0 + x - si] -= two_inv_h2 * delta[x + 1];
+    }
+  }
+  for (int x = 0; x < n; ++x)
+    if (restricted[x] != Scalar(0)) restricted_pressure_move(level, v, k0 + x, restricted[x]);
+}
+
+template <int Dim, typename Scalar>
+void sweep_pressure(Level<Dim, Scalar>& level, Views<Dim, Scalar>& v) {
+  for_each_colored_row(level, [&](std::ptrdiff_t row, int length) {
+    for (int first = 0; first < length; first += kRowChunk)
+      relax_pressure_chunk(level, v, row + first, std::min(kRowChunk, length - first));
   });
 }
 

@@ -402,14 +402,18 @@ void build_band_schedule(Level<Dim, Scalar>& level) {
       slot[linear] = {c, static_cast<int>(b)};
     }
   }
-  auto work_at = [&](std::ptrdiff_t k) -> typename Level<Dim, Scalar>::BandWork& {
+  // Color and index within the color of the block that holds location k.
+  auto slot_at = [&](std::ptrdiff_t k) {
     const IVec<Dim> s = level.lattice.coords(k);
     int linear = 0, stride = 1;
     for (int a = 0; a < Dim; ++a) {
       linear += ((s[a] - 1) / partition.block_size[a]) * stride;
       stride *= partition.blocks_per_axis[a];
     }
-    const auto [color, index] = slot[linear];
+    return slot[linear];
+  };
+  auto work_at = [&](std::ptrdiff_t k) -> typename Level<Dim, Scalar>::BandWork& {
+    const auto [color, index] = slot_at(k);
     return level.band_schedule[color][index];
   };
   for (std::size_t e = 0; e < level.band_blocks.size(); ++e) {
@@ -419,6 +423,18 @@ void build_band_schedule(Level<Dim, Scalar>& level) {
   }
   for (std::uint32_t m : level.band_point_rows)
     work_at(level.band_u.target_index[m]).point_rows.push_back(m);
+  // The Fig. 8 subsets: each row goes to the block that holds its target, like a point row.
+  auto schedule_rows = [&](const std::vector<std::uint32_t>& rows,
+                           typename Level<Dim, Scalar>::RowSchedule& schedule) {
+    for (int c = 0; c < BlockPartition<Dim>::color_count; ++c)
+      schedule[c].assign(partition.colors[c].size(), {});
+    for (std::uint32_t m : rows) {
+      const auto [color, index] = slot_at(level.band_u.target_index[m]);
+      schedule[color][index].push_back(m);
+    }
+  };
+  schedule_rows(level.pre_restriction_rows, level.pre_restriction_schedule);
+  schedule_rows(level.post_prolongation_rows, level.post_prolongation_schedule);
 }
 
 template <int Dim, typename Scalar>

@@ -127,6 +127,11 @@ struct Level {
   };
   BlockPartition<Dim> blocks;
   std::array<std::vector<BandWork>, (1 << Dim)> band_schedule;
+  // A subset of band_u rows grouped the same way: per color, per block, rows in band_u order.
+  using RowSchedule = std::array<std::vector<std::vector<std::uint32_t>>, (1 << Dim)>;
+  // pre_restriction_rows and post_prolongation_rows as colored schedules, so that their extra
+  // sweeps run in parallel too.
+  RowSchedule pre_restriction_schedule, post_prolongation_schedule;
 
   std::size_t size() const { return lattice.size(); }
   std::uint32_t global(int field, std::ptrdiff_t k) const {

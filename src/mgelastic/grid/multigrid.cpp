@@ -60,6 +60,36 @@ bool may_coarsen(const Lattice<Dim>& lattice, const std::vector<CellType>& cells
   return (lattice.cells.maxCoeff() + 1) / 2 >= options.coarsest_min_cells;
 }
 
+// Mixed precision: the float level solves L e = r with a zero initial correction. Elementwise,
+// so the static parallel loops give the same values for any thread count.
+template <int Dim, typename Scalar>
+void load_correction_problem(const Level<Dim, double>& solution, Level<Dim, Scalar>& fine) {
+  const auto size = static_cast<std::ptrdiff_t>(fine.size());
+  for (int f = 0; f <= Dim; ++f) {
+    const double* r = solution.r[f].data();
+    Scalar* b = fine.b[f].data();
+    Scalar* x = fine.x[f].data();
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t k = 0; k < size; ++k) {
+      b[k] = static_cast<Scalar>(r[k]);
+      x[k] = Scalar(0);
+    }
+  }
+}
+
+template <int Dim, typename Scalar>
+void add_correction(const Level<Dim, Scalar>& fine, Level<Dim, double>& solution) {
+  const auto size = static_cast<std::ptrdiff_t>(fine.size());
+  for (int f = 0; f <= Dim; ++f) {
+    const VarKind* kind = fine.kind[f].data();
+    const Scalar* e = fine.x[f].data();
+    double* x = solution.x[f].data();
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t k = 0; k < size; ++k)
+      if (kind[k] == VarKind::INTERIOR) x[k] += e[k];
+  }
+}
+
 }  // namespace
 
 int default_boundary_sweeps(double poisson_ratio) {
@@ -240,17 +270,11 @@ double Multigrid<Dim, Scalar>::vcycle() {
   Timer timer;
   Level<Dim, Scalar>& fine = m_levels.front();
   if (!m_solution_residual_current) compute_residual(*m_solution);
-  for (int f = 0; f <= Dim; ++f) {
-    std::transform(m_solution->r[f].begin(), m_solution->r[f].end(), fine.b[f].begin(),
-                   [](double v) { return static_cast<Scalar>(v); });
-    std::fill(fine.x[f].begin(), fine.x[f].end(), Scalar(0));
-  }
+  load_correction_problem(*m_solution, fine);
   m_phases.other += timer.seconds();
   cycle_correction();
   timer.restart();
-  for (int f = 0; f <= Dim; ++f)
-    for (std::size_t k = 0; k < fine.size(); ++k)
-      if (fine.kind[f][k] == VarKind::INTERIOR) m_solution->x[f][k] += fine.x[f][k];
+  add_correction(fine, *m_solution);
   back_substitute_traction(*m_solution);
   const double norm = compute_residual(*m_solution);
   m_solution_residual_current = true;
@@ -278,7 +302,7 @@ void Multigrid<Dim, Scalar>::correct(int l) {
   }
   smooth(l, true);
   timer.restart();
-  band_gauss_seidel(m_levels[l], m_options.relocation_sweeps, &m_levels[l].pre_restriction_rows);
+  band_gauss_seidel(m_levels[l], m_options.relocation_sweeps, m_levels[l].pre_restriction_schedule);
   m_phases.boundary_smoothing += timer.seconds();
   observe(l, CyclePhase::RELOCATION_BEFORE_RESTRICTION);
   timer.restart();
@@ -295,7 +319,8 @@ void Multigrid<Dim, Scalar>::correct(int l) {
   m_phases.prolongation += timer.seconds();
   observe(l, CyclePhase::PROLONGATION);
   timer.restart();
-  band_gauss_seidel(m_levels[l], m_options.relocation_sweeps, &m_levels[l].post_prolongation_rows);
+  band_gauss_seidel(m_levels[l], m_options.relocation_sweeps,
+                    m_levels[l].post_prolongation_schedule);
   m_phases.boundary_smoothing += timer.seconds();
   observe(l, CyclePhase::RELOCATION_AFTER_PROLONGATION);
   smooth(l, false);
