@@ -160,14 +160,26 @@ TEST(CorotatedMultigrid, SmallDeformationsAgreeWithTheLinearModel) {
   EXPECT_LT(difference, 1e-4 * size);
 }
 
-// The paper's Fig. 10 measures ~0.43 per cycle (non-linear residual, nu = 0.475, animation).
-// Here from a cold start (u = 0) to a cantilever bent by a fifth of its length.
-TEST(CorotatedMultigrid, NonlinearResidualOfABentNearlyIncompressibleBarDropsPerCycle) {
+ElasticityProblem<3> bent_cantilever() {
   ElasticityProblem<3> problem = bar(24, 0.475, true);
   problem.body_force = [](const Vec<3>&) { return Vec<3>(0, -0.01, 0); };
-  for (int every : {1, 5}) {
+  return problem;
+}
+
+// The paper's Fig. 10 measures ~0.43 per cycle (non-linear residual, nu = 0.475, animation).
+// Here from a cold start (u = 0) to a cantilever bent by a fifth of its length. Refreshing every
+// cycle with Anderson mixing (default) meets 0.5; plain frozen-rotation cycles (depth 0) and
+// k = 5 are limited by the outer iteration (next test) and only reported.
+TEST(CorotatedMultigrid, NonlinearResidualOfABentNearlyIncompressibleBarDropsPerCycle) {
+  const ElasticityProblem<3> problem = bent_cantilever();
+  struct Variant {
+    int every, depth;
+    double bound;
+  };
+  for (const Variant variant : {Variant{1, 3, 0.5}, Variant{1, 0, 0.65}, Variant{5, 3, 0.92}}) {
     CorotatedOptions options;
-    options.rotation_update_every = every;
+    options.rotation_update_every = variant.every;
+    options.acceleration_depth = variant.depth;
     CorotatedMultigrid<3> corotated(problem, {}, options);
     const CorotatedReport report = corotated.run_cycles(30);
     double tip = 0;
@@ -177,13 +189,46 @@ TEST(CorotatedMultigrid, NonlinearResidualOfABentNearlyIncompressibleBarDropsPer
     const double rate = mean_rate(report.nonlinear);
     const double quasi_linear_rate = mean_rate(report.quasi_linear);
     std::printf(
-        "bent bar nu 0.475, 24x6x6, rotations every %d cycles: tip deflection %.3f, non-linear "
-        "residual %.3g -> %.3g in %d cycles, mean rate %.3f (quasi-linear %.3f)\n",
-        every, tip, report.nonlinear.front(), report.nonlinear.back(), report.cycles(), rate,
-        quasi_linear_rate);
+        "bent bar nu 0.475, 24x6x6, rotations every %d cycles, Anderson depth %d: tip deflection "
+        "%.3f, non-linear residual %.3g -> %.3g in %d cycles, mean rate %.3f (quasi-linear "
+        "%.3f)\n",
+        variant.every, variant.depth, tip, report.nonlinear.front(), report.nonlinear.back(),
+        report.cycles(), rate, quasi_linear_rate);
     EXPECT_LT(tip, -0.15);
-    EXPECT_LE(rate, every == 1 ? 0.65 : 0.92);
+    EXPECT_LE(rate, variant.bound) << "every " << variant.every << ", depth " << variant.depth;
   }
+}
+
+// Diagnosis of the outer iteration: with the frozen system solved (almost) exactly between
+// refreshes, the non-linear residual still drops only ~0.46 per refresh (the Picard contraction
+// of the co-rotated iteration on this bar), while a V-cycle on the frozen system reduces its own
+// residual by ~0.37. One plain cycle per refresh cannot beat the former.
+TEST(CorotatedMultigrid, FrozenRotationIterationContractsAboutHalfPerRefreshWithExactInnerSolves) {
+  CorotatedOptions options;
+  options.rotation_update_every = 1 << 30;  // refreshed by hand below
+  options.acceleration_depth = 0;
+  CorotatedMultigrid<3> corotated(bent_cantilever(), {}, options);
+  std::vector<double> nonlinear{corotated.nonlinear_residual()};
+  double inner_rate = 0;
+  for (int outer = 0; outer < 7; ++outer) {
+    corotated.refresh_rotations();
+    const double start = corotated.quasi_linear_residual();
+    double residual = start;
+    int cycles = 0;
+    while (residual > 1e-7 * start && cycles < 30) {
+      residual = corotated.vcycle();
+      ++cycles;
+    }
+    inner_rate = std::pow(residual / start, 1.0 / cycles);
+    nonlinear.push_back(corotated.nonlinear_residual());
+  }
+  // The first refreshes leave the linear (R = I) overshoot; the late ratios are the contraction.
+  const double contraction = std::pow(nonlinear[7] / nonlinear[4], 1.0 / 3);
+  std::printf("frozen-rotation (Picard) contraction per refresh %.3f, inner V-cycle rate %.3f\n",
+              contraction, inner_rate);
+  EXPECT_GT(contraction, 0.3);
+  EXPECT_LT(contraction, 0.55);
+  EXPECT_LT(inner_rate, 0.45);
 }
 
 TEST(CorotatedMultigrid, InvertedCellsNeverGiveNaN) {
