@@ -239,11 +239,18 @@ double CorotatedMultigrid<Dim>::quasi_linear_residual() {
   return corotated_residual(m_multigrid.level(0), m_rows[0]);
 }
 
+// The rows of the current rotations are built (and kept for the refresh) only when the next
+// cycle refreshes; otherwise each row is applied as it is built.
 template <int Dim>
 double CorotatedMultigrid<Dim>::nonlinear_residual() {
   auto& finest = m_multigrid.level(0);
+  auto rotations = cell_rotations(finest);
+  if (m_cycles_since_refresh < m_options.rotation_update_every) {
+    m_fresh.reset();
+    return corotated_residual(finest, rotations, m_sigma, false, m_options.stress);
+  }
   auto fresh = std::make_unique<FreshRows>();
-  fresh->rotations = cell_rotations(finest);
+  fresh->rotations = std::move(rotations);
   fresh->rows = build_corotated_rows(finest, fresh->rotations, m_sigma, false, m_options.stress);
   const double residual = corotated_residual(finest, fresh->rows);
   m_fresh = std::move(fresh);
