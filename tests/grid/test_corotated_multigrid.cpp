@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "grid_test_support.hpp"
+#include "mgelastic/core/threads.hpp"
 #include "mgelastic/grid/corotated_dynamics.hpp"
 #include "mgelastic/grid/corotated_multigrid.hpp"
 #include "mgelastic/grid/multigrid.hpp"
@@ -229,6 +230,59 @@ TEST(CorotatedMultigrid, FrozenRotationIterationContractsAboutHalfPerRefreshWith
   EXPECT_GT(contraction, 0.3);
   EXPECT_LT(contraction, 0.55);
   EXPECT_LT(inner_rate, 0.45);
+}
+
+// The non-linear residual between refreshes is evaluated stress by stress without stored rows;
+// it must be the residual of the stored rows (same rotations, same x).
+TEST(CorotatedOperator, MatrixFreeResidualEqualsTheStoredRows) {
+  const ElasticityProblem<3> problem = bar(16, 0.45, true);
+  const BoundaryStress<3> traction = [](int i, int j, const Vec<3>& x) {
+    return 0.01 * (i + 1) * (j + 2) * x[0];
+  };
+  Level<3, double> level = build_level<3, double>(problem.lattice, problem.cells, problem.material,
+                                                  traction, nullptr, 5.0);
+  std::uint32_t seed = 7;
+  for (auto& field : level.x)
+    for (double& v : field) {
+      seed = seed * 1664525u + 1013904223u;
+      v = 0.05 * (static_cast<double>(seed >> 8) / (1u << 24) - 0.5);
+    }
+  const auto rotations = cell_rotations(level);
+  for (auto& field : level.b) std::fill(field.begin(), field.end(), 0.1);
+  const double stored =
+      corotated_residual(level, build_corotated_rows(level, rotations, traction, false));
+  const auto stored_r = level.r;
+  const double matrix_free = corotated_residual(level, rotations, traction, false);
+  double worst = 0;
+  for (int f = 0; f < 4; ++f)
+    for (std::size_t k = 0; k < level.size(); ++k)
+      worst = std::max(worst, std::abs(level.r[f][k] - stored_r[f][k]));
+  std::printf("residual norm stored %.6g, matrix-free %.6g, max difference %.3g\n", stored,
+              matrix_free, worst);
+  EXPECT_GT(stored, 0.0);
+  EXPECT_LT(worst, 1e-12 * stored);
+}
+
+TEST(CorotatedOperator, RowsAndResidualDoNotDependOnTheThreadCount) {
+  const ElasticityProblem<3> problem = bar(16, 0.45, true);
+  Level<3, double> level =
+      build_level<3, double>(problem.lattice, problem.cells, problem.material, {}, nullptr);
+  for (std::size_t k = 0; k < level.size(); ++k)
+    level.x[1][k] = 0.2 * std::sin(0.37 * static_cast<double>(k));
+  const auto rotations = cell_rotations(level);
+  const int saved = thread_count();
+  set_thread_count(1);
+  const CorotatedRows one = build_corotated_rows(level, rotations, {}, false);
+  const double residual_one = corotated_residual(level, rotations, {}, false);
+  set_thread_count(2);
+  const CorotatedRows two = build_corotated_rows(level, rotations, {}, false);
+  const double residual_two = corotated_residual(level, rotations, {}, false);
+  set_thread_count(saved);
+  EXPECT_EQ(one.start, two.start);
+  EXPECT_EQ(one.column, two.column);
+  EXPECT_EQ(one.value, two.value);
+  EXPECT_EQ(one.constant, two.constant);
+  EXPECT_EQ(residual_one, residual_two);
 }
 
 TEST(CorotatedMultigrid, InvertedCellsNeverGiveNaN) {

@@ -64,6 +64,19 @@ class CorotatedRowBuilder {
         m_mu(level.mu),
         m_inv_h(1.0 / level.lattice.h) {}
 
+  // P_ii at a cell and P_ij at an (i, j) edge for the level's current x, exactly as a momentum
+  // row adds them (traction values included).
+  double normal_stress(int i, std::ptrdiff_t cell) const {
+    RowEvaluation<Dim> stress{&m_level};
+    add_normal_stress(i, cell, 1.0, stress);
+    return stress.value + stress.constant;
+  }
+  double shear_stress(int i, int j, std::ptrdiff_t edge) const {
+    RowEvaluation<Dim> stress{&m_level};
+    add_shear_stress(i, j, edge, 1.0, stress);
+    return stress.value + stress.constant;
+  }
+
   template <typename Sink>
   void momentum(int i, std::ptrdiff_t k, Sink& row) const {
     row.clear();
@@ -431,30 +444,62 @@ CorotatedRows build_corotated_rows(const Level<Dim, double>& level,
   return rows;
 }
 
+// Each stress is evaluated once (a momentum row reads 2 Dim of them, each shared by two rows),
+// at the locations next to an interior face: P_ii at cells, P_ij at (i, j) edges.
 template <int Dim>
 double corotated_residual(Level<Dim, double>& level, const std::vector<Matrix<Dim>>& rotations,
                           const BoundaryStress<Dim>& sigma, bool homogeneous,
                           CorotatedStress form) {
   const CorotatedRowBuilder<Dim> builder(level, rotations, sigma, homogeneous, form);
-  const std::size_t n = level.size();
+  const auto& lat = level.lattice;
+  const auto n = static_cast<std::ptrdiff_t>(level.size());
+  const double inv_h = 1.0 / lat.h;
+  auto interior = [&](int i, std::ptrdiff_t k) { return level.kind[i][k] == VarKind::INTERIOR; };
+  std::array<std::vector<double>, Dim * Dim> stress;  // [i * Dim + j][location]
+  for (auto& field : stress) field.assign(n, 0.0);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t k = 0; k < n; ++k)
+    for (int i = 0; i < Dim; ++i) {
+      const std::ptrdiff_t si = lat.stride(i);
+      if (interior(i, k) || (k + si < n && interior(i, k + si)))
+        stress[i * Dim + i][k] = builder.normal_stress(i, k);
+      for (int j = 0; j < Dim; ++j) {
+        const std::ptrdiff_t sj = lat.stride(j);
+        if (j != i && (interior(i, k) || (k >= sj && interior(i, k - sj))))
+          stress[i * Dim + j][k] = builder.shear_stress(i, j, k);
+      }
+    }
   for (auto& field : level.r) std::fill(field.begin(), field.end(), 0.0);
   const std::vector<std::uint32_t> targets = row_targets(level);
   const auto count = static_cast<std::ptrdiff_t>(targets.size());
+  const auto size = static_cast<std::size_t>(n);
 #pragma omp parallel
   {
     RowEvaluation<Dim> row{&level};
 #pragma omp for schedule(static)
     for (std::ptrdiff_t m = 0; m < count; ++m) {
       const std::uint32_t t = targets[m];
-      build_row(builder, t, n, row);
-      level.r[t / n][t % n] = level.b[t / n][t % n] - row.value - row.constant;
+      const int i = static_cast<int>(t / size);
+      const std::ptrdiff_t k = t % size;
+      double lhs;
+      if (i < Dim) {
+        const auto& p = stress;
+        double divergence = p[i * Dim + i][k] - p[i * Dim + i][k - lat.stride(i)];
+        for (int j = 0; j < Dim; ++j)
+          if (j != i) divergence += p[i * Dim + j][k + lat.stride(j)] - p[i * Dim + j][k];
+        lhs = inv_h * divergence - level.inertia * level.x[i][k];
+      } else {
+        builder.pressure(k, row);
+        lhs = row.value + row.constant;
+      }
+      level.r[i][k] = level.b[i][k] - lhs;
     }
   }
   // Summed in row order: the same norm for every thread count.
   double sum = 0.0;
   for (std::uint32_t t : targets)
-    if (t / n < static_cast<std::size_t>(Dim) || level.lambda > 0)
-      sum += level.r[t / n][t % n] * level.r[t / n][t % n];
+    if (t / size < static_cast<std::size_t>(Dim) || level.lambda > 0)
+      sum += level.r[t / size][t % size] * level.r[t / size][t % size];
   return std::sqrt(sum);
 }
 
