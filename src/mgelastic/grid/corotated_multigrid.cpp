@@ -301,22 +301,28 @@ void CorotatedMultigrid<Dim>::scatter_unknowns(const Eigen::VectorXd& values) {
 // (safeguard against extrapolating across a changed map) and the smaller of the mixed and the
 // plain cycle's residuals is kept.
 template <int Dim>
-double CorotatedMultigrid<Dim>::accelerated_cycle(AndersonMixing& anderson, double previous) {
+double CorotatedMultigrid<Dim>::accelerated_cycle(AndersonMixing& anderson, double previous,
+                                                  double& quasi_linear) {
   const Eigen::VectorXd x = gather_unknowns();
-  solve_cycle();
+  quasi_linear = solve_cycle();
   const Eigen::VectorXd gx = gather_unknowns();
   const bool extrapolated = anderson.history() > 0;
   const Eigen::VectorXd mixed = anderson.mix(x, gx);
   if (!extrapolated) return nonlinear_residual();
   scatter_unknowns(mixed);
-  const double residual = nonlinear_residual();
-  if (residual < previous) return residual;
-  anderson.reset();
-  scatter_unknowns(gx);
-  const double plain = nonlinear_residual();
-  if (plain <= residual) return plain;
-  scatter_unknowns(mixed);  // both rose: keep the smaller (the mixed one)
-  return nonlinear_residual();
+  double residual = nonlinear_residual();
+  if (residual >= previous) {
+    anderson.reset();
+    scatter_unknowns(gx);
+    const double plain = nonlinear_residual();
+    if (plain <= residual) return plain;
+    scatter_unknowns(mixed);  // both rose: keep the smaller (the mixed one)
+    residual = nonlinear_residual();
+  }
+  // The non-linear residual (computed last) may have kept rows for the next refresh in m_fresh;
+  // the quasi-linear residual only reads m_rows.
+  quasi_linear = quasi_linear_residual();
+  return residual;
 }
 
 template <int Dim>
@@ -335,8 +341,10 @@ CorotatedReport CorotatedMultigrid<Dim>::solve(double relative_tolerance, int ma
       break;
     }
     if (m_options.acceleration_depth > 0) {
-      report.nonlinear.push_back(accelerated_cycle(anderson, report.nonlinear.back()));
-      report.quasi_linear.push_back(quasi_linear_residual());
+      double quasi_linear = 0;
+      report.nonlinear.push_back(
+          accelerated_cycle(anderson, report.nonlinear.back(), quasi_linear));
+      report.quasi_linear.push_back(quasi_linear);
     } else {
       report.quasi_linear.push_back(solve_cycle());
       report.nonlinear.push_back(nonlinear_residual());

@@ -84,7 +84,7 @@ class CorotatedMultigrid {
   void refresh_rotations(FreshRows fresh);
   // One cycle of solve(): refreshes with the rows of the last non-linear residual when due.
   double solve_cycle();
-  double accelerated_cycle(AndersonMixing& anderson, double previous);
+  double accelerated_cycle(AndersonMixing& anderson, double previous, double& quasi_linear);
   Eigen::VectorXd gather_unknowns() const;
   void scatter_unknowns(const Eigen::VectorXd& values);
   void smooth(int l, bool forward, bool relocated_only);

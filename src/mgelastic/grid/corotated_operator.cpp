@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <optional>
+#include <stdexcept>
 
 namespace mgelastic::grid {
 namespace {
@@ -17,11 +18,17 @@ struct Term {
 // Sinks of the row builder: Row collects the terms of one equation; RowEvaluation applies
 // them to the level's current x on the fly (the non-linear residual needs no stored rows).
 struct Row {
-  std::vector<Term> terms;
+  // A momentum row has up to ~450 raw terms (2 Dim stresses, each up to Dim^2 averaged
+  // gradients); fixed storage keeps the builder's inner loop free of capacity checks.
+  static constexpr int kCapacity = 1024;
+  std::array<Term, kCapacity> terms;
+  int count = 0;
   double constant = 0.0;
-  void add(std::uint32_t variable, double coefficient) { terms.push_back({variable, coefficient}); }
+  void add(std::uint32_t variable, double coefficient) {
+    if (count < kCapacity) terms[count++] = {variable, coefficient};
+  }
   void clear() {
-    terms.clear();
+    count = 0;
     constant = 0.0;
   }
 };
@@ -321,38 +328,47 @@ class CorotatedRowBuilder {
 };
 
 // Sums a row's repeated variables (a stress location shared by several terms) with a dense
-// accumulator and emits them in increasing variable order. One per thread, kept between builds
-// (entries are reset after use, so only growth allocates).
+// hash table and emits them in increasing variable order. One per thread, kept between builds
+// (slots are emptied after use).
 class RowCompressor {
  public:
-  void reserve(std::size_t variables) {
-    if (m_sum.size() < variables) {
-      m_sum.assign(variables, 0.0);
-      m_seen.assign(variables, 0);
-    }
-  }
   void compress(const Row& row, std::vector<std::uint32_t>& column, std::vector<double>& value) {
+    if (row.count >= Row::kCapacity)
+      throw std::logic_error("co-rotated row builder: more than Row::kCapacity terms");
+    // Open addressing in a small table (L1-resident): a row has ~60 distinct variables.
     m_touched.clear();
-    for (const Term& term : row.terms) {
-      if (!m_seen[term.variable]) {
-        m_seen[term.variable] = 1;
-        m_touched.push_back(term.variable);
+    for (int t = 0; t < row.count; ++t) {
+      const Term& term = row.terms[t];
+      std::uint32_t slot = (term.variable * 2654435761u) >> (32 - kBits);
+      while (m_key[slot] != kEmpty && m_key[slot] != term.variable) slot = (slot + 1) & kMask;
+      if (m_key[slot] == kEmpty) {
+        m_key[slot] = term.variable;
+        m_sum[slot] = 0.0;
+        m_touched.push_back(slot);
       }
-      m_sum[term.variable] += term.coefficient;
+      m_sum[slot] += term.coefficient;
     }
-    std::sort(m_touched.begin(), m_touched.end());
-    for (std::uint32_t variable : m_touched) {
-      column.push_back(variable);
-      value.push_back(m_sum[variable]);
-      m_sum[variable] = 0.0;
-      m_seen[variable] = 0;
+    std::sort(m_touched.begin(), m_touched.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return m_key[a] < m_key[b]; });
+    for (std::uint32_t slot : m_touched) {
+      column.push_back(m_key[slot]);
+      value.push_back(m_sum[slot]);
+      m_key[slot] = kEmpty;
     }
   }
 
  private:
-  std::vector<double> m_sum;
-  std::vector<std::uint8_t> m_seen;
+  static constexpr int kBits = 11;  // 2048 slots for at most Row::kCapacity distinct variables
+  static constexpr std::uint32_t kMask = (1u << kBits) - 1;
+  static constexpr std::uint32_t kEmpty = ~0u;
+  std::array<std::uint32_t, 1u << kBits> m_key = make_empty();
+  std::array<double, 1u << kBits> m_sum{};
   std::vector<std::uint32_t> m_touched;
+  static std::array<std::uint32_t, 1u << kBits> make_empty() {
+    std::array<std::uint32_t, 1u << kBits> keys;
+    keys.fill(kEmpty);
+    return keys;
+  }
 };
 
 // Interior variables in lattice order, all variables of one location together (a front-like
@@ -416,7 +432,6 @@ CorotatedRows build_corotated_rows(const Level<Dim, double>& level,
     const std::ptrdiff_t first = count * thread / threads, last = count * (thread + 1) / threads;
     thread_local RowCompressor compressor;
     thread_local Row row;
-    compressor.reserve(rows.row_of.size());
     columns[thread].reserve(static_cast<std::size_t>(last - first) * 64);
     values[thread].reserve(static_cast<std::size_t>(last - first) * 64);
     for (std::ptrdiff_t m = first; m < last; ++m) {
