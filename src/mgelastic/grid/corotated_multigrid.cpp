@@ -3,6 +3,8 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseLU>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/timer.hpp"
@@ -35,6 +37,14 @@ struct CorotatedMultigrid<Dim>::CoarseFactor {
 };
 
 namespace {
+
+constexpr double kDivergenceGrowth = 1e4;  // residual growth within one solve taken as divergence
+
+std::string scientific(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", value);
+  return text;
+}
 
 template <int Dim>
 void build_blocks(const Level<Dim, double>& level, const CorotatedRows& rows,
@@ -352,6 +362,12 @@ CorotatedReport CorotatedMultigrid<Dim>::solve(double relative_tolerance, int ma
     if (!std::isfinite(report.nonlinear.back()) || !std::isfinite(report.quasi_linear.back()))
       throw Error("co-rotated multigrid diverged: residual not finite after cycle " +
                   std::to_string(cycle + 1));
+    // A cold start may overshoot (the first refresh of a bent bar: 15x), never by this much;
+    // stopping here keeps the iterate finite instead of growing to Inf over many steps.
+    if (report.nonlinear.back() > kDivergenceGrowth * initial)
+      throw Error("co-rotated multigrid diverged: non-linear residual grew from " +
+                  scientific(initial) + " to " + scientific(report.nonlinear.back()) +
+                  " by cycle " + std::to_string(cycle + 1));
     if (report.nonlinear.back() <= relative_tolerance * initial) {
       report.converged = true;
       break;
