@@ -118,11 +118,12 @@ TEST_F(CorotatedDynamics, DampingMakesTheEnvelopeDecayMonotonically) {
 
 // Non-linear residual reduction of each step's single V-cycle, a bar sagging and swinging under
 // gravity from an initial velocity: {geometric mean, worst}.
-std::pair<double, double> step_rates(double poisson, double dt, int steps, int every,
+std::pair<double, double> step_rates(double poisson, double dt, int steps, int every, int cycles,
                                      bool* finite = nullptr) {
   ElasticityProblem<3> problem = bar(32, 8, 0.01, 2, {1e5, poisson});
   problem.body_force = [](const Vec<3>&) { return Vec<3>(0, -9.81 * kDensity, 0); };
-  CorotatedBackwardEuler<3> sim(problem, {.dt = dt, .density = kDensity}, {},
+  CorotatedBackwardEuler<3> sim(problem,
+                                {.dt = dt, .density = kDensity, .vcycles_per_step = cycles}, {},
                                 {.rotation_update_every = every});
   sim.set_velocity(bending_velocity(0.02, 0.3, 1.0));
   double worst = 0, log_sum = 0;
@@ -140,48 +141,46 @@ std::pair<double, double> step_rates(double poisson, double dt, int steps, int e
   return {std::exp(log_sum / steps), worst};
 }
 
-// Weaker than the linear model (0.10 mean on this bar, test_backward_euler.cpp) and than the
-// issue's 0.15: one cycle per step is one frozen-rotation (Picard) iteration, whose contraction
-// alone is ~0.46 (CorotatedMultigrid.FrozenRotationIteration...); Anderson mixing needs several
-// cycles per step to engage. Measured: mean 0.58 (k = 1) and 0.59 (k = 5).
+// One cycle per step is one frozen-rotation (Picard) iteration. Measured over 30 steps: mean
+// 0.374 (k = 1) and 0.416 (k = 5; the rotations of a step may be up to 4 steps old). Even an
+// exact solve of the frozen system gives only 0.27 per step (one refresh), so one cycle cannot
+// reach the 0.15 (linear model: 0.10); two cycles (two refreshes) can, see below.
 TEST_F(CorotatedDynamics, OneVCyclePerStepReducesTheResidualAt30Fps) {
   for (const int every : {1, 5}) {
-    const auto [mean, worst] = step_rates(0.45, 1.0 / 30, 30, every);
+    const auto [mean, worst] = step_rates(0.45, 1.0 / 30, 30, every, 1);
     std::printf(
-        "co-rotated per-step reduction, nu = 0.45, dt = 1/30, k = %d: mean %.3f, worst %.3f\n",
+        "co-rotated per-step reduction, nu = 0.45, dt = 1/30, k = %d, 1 cycle: mean %.3f, "
+        "worst %.3f\n",
         every, mean, worst);
-    EXPECT_LE(mean, 0.65);
-    EXPECT_LT(worst, 1.5);
+    EXPECT_LE(mean, every == 1 ? 0.42 : 0.46);
+    EXPECT_LT(worst, every == 1 ? 0.9 : 1.4);
   }
 }
 
-// Not met with the co-rotated model: at nu = 0.49, dt = 1/24 s the frozen-rotation V-cycle of
-// this sagging bar stops converging after ~15 steps and then grows the residual (measured also
-// with E = 1e6 Pa and with cycles to a tolerance per step; the linear model converges at 0.10).
-// What must hold: the run stops with an error naming the time before any value turns
-// non-finite (the residual-growth guard of CorotatedMultigrid::solve).
-TEST_F(CorotatedDynamics, LargeStepAtNearIncompressibilityStopsCleanlyWhenItDiverges) {
-  ElasticityProblem<3> problem = bar(32, 8, 0.01, 2, {1e5, 0.49});
-  problem.body_force = [](const Vec<3>&) { return Vec<3>(0, -9.81 * kDensity, 0); };
-  CorotatedBackwardEuler<3> sim(problem, {.dt = 1.0 / 24, .density = kDensity}, {},
-                                {.rotation_update_every = 1});
-  sim.set_velocity(bending_velocity(0.02, 0.3, 1.0));
-  std::string message;
-  int steps = 0;
-  try {
-    for (; steps < 48; ++steps) sim.step();
-  } catch (const Error& e) {
-    message = e.what();
-  }
-  bool finite = true;
-  for (const auto& v : sim.velocity())
-    for (double x : v) finite = finite && std::isfinite(x);
-  for (const auto& x : sim.multigrid().solution_level().x)
-    for (double value : x) finite = finite && std::isfinite(value);
-  std::printf("co-rotated nu = 0.49, dt = 1/24: %d steps, %s\n", steps,
-              message.empty() ? "no divergence" : message.c_str());
+// The target (<= 0.15 per step at a 30 fps frame) with two cycles per step, k = 1
+// (measured mean 0.121, worst 0.529 over 30 steps).
+TEST_F(CorotatedDynamics, TwoVCyclesPerStepMeetTheRateTargetAt30Fps) {
+  const auto [mean, worst] = step_rates(0.45, 1.0 / 30, 30, 1, 2);
+  std::printf(
+      "co-rotated per-step reduction, nu = 0.45, dt = 1/30, k = 1, 2 cycles: mean %.3f, worst "
+      "%.3f\n",
+      mean, worst);
+  EXPECT_LE(mean, 0.15);
+  EXPECT_LT(worst, 0.7);
+}
+
+// nu = 0.49, dt = 1/24 s, a bar sagging and swinging by about half its length: 48 steps (2 s)
+// stay finite and every step's cycles reduce the residual. Measured: 2 cycles per step mean
+// 0.145, worst 0.543. (Before the traction variables were back-substituted after the
+// prediction, this run diverged after 16 steps.)
+TEST_F(CorotatedDynamics, LargeStepAtNearIncompressibilityConverges) {
+  bool finite = false;
+  const auto [mean, worst] = step_rates(0.49, 1.0 / 24, 48, 1, 2, &finite);
+  std::printf("co-rotated nu = 0.49, dt = 1/24, 48 steps, 2 cycles: mean %.3f, worst %.3f\n", mean,
+              worst);
   EXPECT_TRUE(finite);
-  if (!message.empty()) EXPECT_NE(message.find("diverged"), std::string::npos) << message;
+  EXPECT_LE(mean, 0.2);
+  EXPECT_LT(worst, 0.8);
 }
 
 TEST_F(CorotatedDynamics, DivergedStepThrowsNamingTheTime) {

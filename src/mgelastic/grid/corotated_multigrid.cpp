@@ -336,7 +336,8 @@ double CorotatedMultigrid<Dim>::accelerated_cycle(AndersonMixing& anderson, doub
 }
 
 template <int Dim>
-CorotatedReport CorotatedMultigrid<Dim>::solve(double relative_tolerance, int max_cycles) {
+CorotatedReport CorotatedMultigrid<Dim>::solve(double relative_tolerance, int max_cycles,
+                                               bool accelerate) {
   CorotatedReport report;
   Timer timer;
   report.nonlinear.push_back(nonlinear_residual());
@@ -350,7 +351,7 @@ CorotatedReport CorotatedMultigrid<Dim>::solve(double relative_tolerance, int ma
       report.converged = true;
       break;
     }
-    if (m_options.acceleration_depth > 0) {
+    if (accelerate && m_options.acceleration_depth > 0) {
       double quasi_linear = 0;
       report.nonlinear.push_back(
           accelerated_cycle(anderson, report.nonlinear.back(), quasi_linear));

@@ -63,9 +63,12 @@ class CorotatedMultigrid {
   // returns the quasi-linear residual after it.
   double vcycle();
   // Cycles until the non-linear residual <= tolerance * initial or max_cycles. Throws Error when
-  // the residual stops being finite.
-  CorotatedReport solve(double relative_tolerance, int max_cycles);
-  CorotatedReport run_cycles(int cycles) { return solve(0.0, cycles); }
+  // the residual stops being finite. `accelerate`: Anderson-mixed cycles (options'
+  // acceleration_depth), otherwise plain frozen-rotation cycles.
+  CorotatedReport solve(double relative_tolerance, int max_cycles, bool accelerate = true);
+  // A fixed number of plain cycles (a backward-Euler step): from a warm start two plain
+  // refreshes reduce the step's residual more than two mixed ones (docs/grid-engine.md).
+  CorotatedReport run_cycles(int cycles) { return solve(0.0, cycles, false); }
 
   int levels() const { return m_multigrid.levels(); }
   std::size_t unknowns() const { return m_multigrid.unknowns(); }
