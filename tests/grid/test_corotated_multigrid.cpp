@@ -182,7 +182,7 @@ TEST(CorotatedMultigrid, NonlinearResidualOfABentNearlyIncompressibleBarDropsPer
     options.rotation_update_every = variant.every;
     options.acceleration_depth = variant.depth;
     CorotatedMultigrid<3> corotated(problem, {}, options);
-    const CorotatedReport report = corotated.run_cycles(30);
+    const CorotatedReport report = corotated.solve(0.0, 30);
     double tip = 0;
     const auto& level = corotated.solution_level();
     for (std::size_t k = 0; k < level.size(); ++k)
