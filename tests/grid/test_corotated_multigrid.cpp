@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "grid_test_support.hpp"
+#include "mgelastic/core/threads.hpp"
 #include "mgelastic/grid/corotated_dynamics.hpp"
 #include "mgelastic/grid/corotated_multigrid.hpp"
 #include "mgelastic/grid/multigrid.hpp"
@@ -160,16 +161,28 @@ TEST(CorotatedMultigrid, SmallDeformationsAgreeWithTheLinearModel) {
   EXPECT_LT(difference, 1e-4 * size);
 }
 
-// The paper's Fig. 10 measures ~0.43 per cycle (non-linear residual, nu = 0.475, animation).
-// Here from a cold start (u = 0) to a cantilever bent by a fifth of its length.
-TEST(CorotatedMultigrid, NonlinearResidualOfABentNearlyIncompressibleBarDropsPerCycle) {
+ElasticityProblem<3> bent_cantilever() {
   ElasticityProblem<3> problem = bar(24, 0.475, true);
   problem.body_force = [](const Vec<3>&) { return Vec<3>(0, -0.01, 0); };
-  for (int every : {1, 5}) {
+  return problem;
+}
+
+// The paper's Fig. 10 measures ~0.43 per cycle (non-linear residual, nu = 0.475, animation).
+// Here from a cold start (u = 0) to a cantilever bent by a fifth of its length. Refreshing every
+// cycle with Anderson mixing (default) meets 0.5; plain frozen-rotation cycles (depth 0) and
+// k = 5 are limited by the outer iteration (next test) and only reported.
+TEST(CorotatedMultigrid, NonlinearResidualOfABentNearlyIncompressibleBarDropsPerCycle) {
+  const ElasticityProblem<3> problem = bent_cantilever();
+  struct Variant {
+    int every, depth;
+    double bound;
+  };
+  for (const Variant variant : {Variant{1, 3, 0.5}, Variant{1, 0, 0.65}, Variant{5, 3, 0.92}}) {
     CorotatedOptions options;
-    options.rotation_update_every = every;
+    options.rotation_update_every = variant.every;
+    options.acceleration_depth = variant.depth;
     CorotatedMultigrid<3> corotated(problem, {}, options);
-    const CorotatedReport report = corotated.run_cycles(30);
+    const CorotatedReport report = corotated.solve(0.0, 30);
     double tip = 0;
     const auto& level = corotated.solution_level();
     for (std::size_t k = 0; k < level.size(); ++k)
@@ -177,13 +190,99 @@ TEST(CorotatedMultigrid, NonlinearResidualOfABentNearlyIncompressibleBarDropsPer
     const double rate = mean_rate(report.nonlinear);
     const double quasi_linear_rate = mean_rate(report.quasi_linear);
     std::printf(
-        "bent bar nu 0.475, 24x6x6, rotations every %d cycles: tip deflection %.3f, non-linear "
-        "residual %.3g -> %.3g in %d cycles, mean rate %.3f (quasi-linear %.3f)\n",
-        every, tip, report.nonlinear.front(), report.nonlinear.back(), report.cycles(), rate,
-        quasi_linear_rate);
+        "bent bar nu 0.475, 24x6x6, rotations every %d cycles, Anderson depth %d: tip deflection "
+        "%.3f, non-linear residual %.3g -> %.3g in %d cycles, mean rate %.3f (quasi-linear "
+        "%.3f)\n",
+        variant.every, variant.depth, tip, report.nonlinear.front(), report.nonlinear.back(),
+        report.cycles(), rate, quasi_linear_rate);
     EXPECT_LT(tip, -0.15);
-    EXPECT_LE(rate, every == 1 ? 0.65 : 0.92);
+    EXPECT_LE(rate, variant.bound) << "every " << variant.every << ", depth " << variant.depth;
   }
+}
+
+// Diagnosis of the outer iteration: with the frozen system solved (almost) exactly between
+// refreshes, the non-linear residual still drops only ~0.46 per refresh (the Picard contraction
+// of the co-rotated iteration on this bar), while a V-cycle on the frozen system reduces its own
+// residual by ~0.37. One plain cycle per refresh cannot beat the former.
+TEST(CorotatedMultigrid, FrozenRotationIterationContractsAboutHalfPerRefreshWithExactInnerSolves) {
+  CorotatedOptions options;
+  options.rotation_update_every = 1 << 30;  // refreshed by hand below
+  options.acceleration_depth = 0;
+  CorotatedMultigrid<3> corotated(bent_cantilever(), {}, options);
+  std::vector<double> nonlinear{corotated.nonlinear_residual()};
+  double inner_rate = 0;
+  for (int outer = 0; outer < 7; ++outer) {
+    corotated.refresh_rotations();
+    const double start = corotated.quasi_linear_residual();
+    double residual = start;
+    int cycles = 0;
+    while (residual > 1e-7 * start && cycles < 30) {
+      residual = corotated.vcycle();
+      ++cycles;
+    }
+    inner_rate = std::pow(residual / start, 1.0 / cycles);
+    nonlinear.push_back(corotated.nonlinear_residual());
+  }
+  // The first refreshes leave the linear (R = I) overshoot; the late ratios are the contraction.
+  const double contraction = std::pow(nonlinear[7] / nonlinear[4], 1.0 / 3);
+  std::printf("frozen-rotation (Picard) contraction per refresh %.3f, inner V-cycle rate %.3f\n",
+              contraction, inner_rate);
+  EXPECT_GT(contraction, 0.3);
+  EXPECT_LT(contraction, 0.55);
+  EXPECT_LT(inner_rate, 0.45);
+}
+
+// The non-linear residual between refreshes is evaluated stress by stress without stored rows;
+// it must be the residual of the stored rows (same rotations, same x).
+TEST(CorotatedOperator, MatrixFreeResidualEqualsTheStoredRows) {
+  const ElasticityProblem<3> problem = bar(16, 0.45, true);
+  const BoundaryStress<3> traction = [](int i, int j, const Vec<3>& x) {
+    return 0.01 * (i + 1) * (j + 2) * x[0];
+  };
+  Level<3, double> level = build_level<3, double>(problem.lattice, problem.cells, problem.material,
+                                                  traction, nullptr, 5.0);
+  std::uint32_t seed = 7;
+  for (auto& field : level.x)
+    for (double& v : field) {
+      seed = seed * 1664525u + 1013904223u;
+      v = 0.05 * (static_cast<double>(seed >> 8) / (1u << 24) - 0.5);
+    }
+  const auto rotations = cell_rotations(level);
+  for (auto& field : level.b) std::fill(field.begin(), field.end(), 0.1);
+  const double stored =
+      corotated_residual(level, build_corotated_rows(level, rotations, traction, false));
+  const auto stored_r = level.r;
+  const double matrix_free = corotated_residual(level, rotations, traction, false);
+  double worst = 0;
+  for (int f = 0; f < 4; ++f)
+    for (std::size_t k = 0; k < level.size(); ++k)
+      worst = std::max(worst, std::abs(level.r[f][k] - stored_r[f][k]));
+  std::printf("residual norm stored %.6g, matrix-free %.6g, max difference %.3g\n", stored,
+              matrix_free, worst);
+  EXPECT_GT(stored, 0.0);
+  EXPECT_LT(worst, 1e-12 * stored);
+}
+
+TEST(CorotatedOperator, RowsAndResidualDoNotDependOnTheThreadCount) {
+  const ElasticityProblem<3> problem = bar(16, 0.45, true);
+  Level<3, double> level =
+      build_level<3, double>(problem.lattice, problem.cells, problem.material, {}, nullptr);
+  for (std::size_t k = 0; k < level.size(); ++k)
+    level.x[1][k] = 0.2 * std::sin(0.37 * static_cast<double>(k));
+  const auto rotations = cell_rotations(level);
+  const int saved = thread_count();
+  set_thread_count(1);
+  const CorotatedRows one = build_corotated_rows(level, rotations, {}, false);
+  const double residual_one = corotated_residual(level, rotations, {}, false);
+  set_thread_count(2);
+  const CorotatedRows two = build_corotated_rows(level, rotations, {}, false);
+  const double residual_two = corotated_residual(level, rotations, {}, false);
+  set_thread_count(saved);
+  EXPECT_EQ(one.start, two.start);
+  EXPECT_EQ(one.column, two.column);
+  EXPECT_EQ(one.value, two.value);
+  EXPECT_EQ(one.constant, two.constant);
+  EXPECT_EQ(residual_one, residual_two);
 }
 
 TEST(CorotatedMultigrid, InvertedCellsNeverGiveNaN) {

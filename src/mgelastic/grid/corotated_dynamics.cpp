@@ -58,7 +58,7 @@ CorotatedReport CorotatedBackwardEuler<Dim>::step(const VectorField& dirichlet) 
     for (std::ptrdiff_t k = 0; k < n; ++k)
       if (level.kind[i][k] == VarKind::INTERIOR) level.x[i][k] += dt * m_velocity[i][k];
   }
-  if (dirichlet) m_multigrid.set_dirichlet_displacement(dirichlet);
+  m_multigrid.set_dirichlet_displacement(dirichlet);  // also back-substitutes tractions
   CorotatedReport report;
   try {
     report = m_options.vcycles_per_step > 0

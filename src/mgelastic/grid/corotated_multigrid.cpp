@@ -3,9 +3,12 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseLU>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/timer.hpp"
+#include "mgelastic/grid/corotated_acceleration.hpp"
 #include "mgelastic/grid/transfer.hpp"
 
 namespace mgelastic::grid {
@@ -23,11 +26,25 @@ struct CorotatedMultigrid<Dim>::Blocks {
 };
 
 template <int Dim>
+struct CorotatedMultigrid<Dim>::FreshRows {
+  std::vector<Matrix<Dim>> rotations;
+  CorotatedRows rows;
+};
+
+template <int Dim>
 struct CorotatedMultigrid<Dim>::CoarseFactor {
   Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
 };
 
 namespace {
+
+constexpr double kDivergenceGrowth = 1e4;  // residual growth within one solve taken as divergence
+
+std::string scientific(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", value);
+  return text;
+}
 
 template <int Dim>
 void build_blocks(const Level<Dim, double>& level, const CorotatedRows& rows,
@@ -92,20 +109,36 @@ void CorotatedMultigrid<Dim>::set_dirichlet_displacement(
 
 template <int Dim>
 void CorotatedMultigrid<Dim>::refresh_rotations() {
-  m_rotations[0] = cell_rotations(m_multigrid.level(0));
+  FreshRows fresh;
+  fresh.rotations = cell_rotations(m_multigrid.level(0));
+  fresh.rows =
+      build_corotated_rows(m_multigrid.level(0), fresh.rotations, m_sigma, false, m_options.stress);
+  refresh_rotations(std::move(fresh));
+}
+
+template <int Dim>
+void CorotatedMultigrid<Dim>::refresh_rotations(FreshRows fresh) {
+  m_rotations[0] = std::move(fresh.rotations);
   for (int l = 1; l < levels(); ++l) {
     const auto& fine = m_multigrid.level(l - 1);
     m_rotations[l] = restrict_rotations(fine.lattice, fine.cells, m_rotations[l - 1],
                                         m_multigrid.level(l).lattice);
   }
-  for (int l = 0; l < levels(); ++l) build_level_system(l);
+  build_level_system(0, std::move(fresh.rows));
+  for (int l = 1; l < levels(); ++l) build_level_system(l);
   m_cycles_since_refresh = 0;
 }
 
 template <int Dim>
 void CorotatedMultigrid<Dim>::build_level_system(int l) {
+  build_level_system(l, build_corotated_rows(m_multigrid.level(l), m_rotations[l], m_sigma, l > 0,
+                                             m_options.stress));
+}
+
+template <int Dim>
+void CorotatedMultigrid<Dim>::build_level_system(int l, CorotatedRows rows_of_level) {
   const auto& level = m_multigrid.level(l);
-  m_rows[l] = build_corotated_rows(level, m_rotations[l], m_sigma, l > 0, m_options.stress);
+  m_rows[l] = std::move(rows_of_level);
   const int coarsest = levels() - 1;
   if (l == coarsest) {
     const CorotatedRows& rows = m_rows[l];
@@ -216,24 +249,95 @@ double CorotatedMultigrid<Dim>::quasi_linear_residual() {
   return corotated_residual(m_multigrid.level(0), m_rows[0]);
 }
 
+// The rows of the current rotations are built (and kept for the refresh) only when the next
+// cycle refreshes; otherwise each row is applied as it is built.
 template <int Dim>
 double CorotatedMultigrid<Dim>::nonlinear_residual() {
   auto& finest = m_multigrid.level(0);
-  const auto rotations = cell_rotations(finest);
-  return corotated_residual(
-      finest, build_corotated_rows(finest, rotations, m_sigma, false, m_options.stress));
+  auto rotations = cell_rotations(finest);
+  if (m_cycles_since_refresh < m_options.rotation_update_every) {
+    m_fresh.reset();
+    return corotated_residual(finest, rotations, m_sigma, false, m_options.stress);
+  }
+  auto fresh = std::make_unique<FreshRows>();
+  fresh->rotations = std::move(rotations);
+  fresh->rows = build_corotated_rows(finest, fresh->rotations, m_sigma, false, m_options.stress);
+  const double residual = corotated_residual(finest, fresh->rows);
+  m_fresh = std::move(fresh);
+  return residual;
 }
 
 template <int Dim>
 double CorotatedMultigrid<Dim>::vcycle() {
-  if (m_cycles_since_refresh >= m_options.rotation_update_every) refresh_rotations();
+  m_fresh.reset();
+  return solve_cycle();
+}
+
+template <int Dim>
+double CorotatedMultigrid<Dim>::solve_cycle() {
+  if (m_cycles_since_refresh >= m_options.rotation_update_every) {
+    if (m_fresh)
+      refresh_rotations(std::move(*m_fresh));
+    else
+      refresh_rotations();
+  }
+  m_fresh.reset();
   correct(0);
   ++m_cycles_since_refresh;
   return quasi_linear_residual();
 }
 
 template <int Dim>
-CorotatedReport CorotatedMultigrid<Dim>::solve(double relative_tolerance, int max_cycles) {
+Eigen::VectorXd CorotatedMultigrid<Dim>::gather_unknowns() const {
+  const CorotatedRows& rows = m_rows[0];
+  const auto& level = m_multigrid.level(0);
+  Eigen::VectorXd values(static_cast<Eigen::Index>(rows.rows()));
+  for (std::size_t m = 0; m < rows.rows(); ++m)
+    values[static_cast<Eigen::Index>(m)] = level.at(rows.target[m]);
+  return values;
+}
+
+template <int Dim>
+void CorotatedMultigrid<Dim>::scatter_unknowns(const Eigen::VectorXd& values) {
+  const CorotatedRows& rows = m_rows[0];
+  auto& level = m_multigrid.level(0);
+  for (std::size_t m = 0; m < rows.rows(); ++m)
+    level.at(rows.target[m]) = values[static_cast<Eigen::Index>(m)];
+  back_substitute(0);
+}
+
+// One Anderson-mixed cycle; returns the non-linear residual of the accepted iterate. The mixed
+// iterate is kept when it lowers the non-linear residual; otherwise the history restarts
+// (safeguard against extrapolating across a changed map) and the smaller of the mixed and the
+// plain cycle's residuals is kept.
+template <int Dim>
+double CorotatedMultigrid<Dim>::accelerated_cycle(AndersonMixing& anderson, double previous,
+                                                  double& quasi_linear) {
+  const Eigen::VectorXd x = gather_unknowns();
+  quasi_linear = solve_cycle();
+  const Eigen::VectorXd gx = gather_unknowns();
+  const bool extrapolated = anderson.history() > 0;
+  const Eigen::VectorXd mixed = anderson.mix(x, gx);
+  if (!extrapolated) return nonlinear_residual();
+  scatter_unknowns(mixed);
+  double residual = nonlinear_residual();
+  if (residual >= previous) {
+    anderson.reset();
+    scatter_unknowns(gx);
+    const double plain = nonlinear_residual();
+    if (plain <= residual) return plain;
+    scatter_unknowns(mixed);  // both rose: keep the smaller (the mixed one)
+    residual = nonlinear_residual();
+  }
+  // The non-linear residual (computed last) may have kept rows for the next refresh in m_fresh;
+  // the quasi-linear residual only reads m_rows.
+  quasi_linear = quasi_linear_residual();
+  return residual;
+}
+
+template <int Dim>
+CorotatedReport CorotatedMultigrid<Dim>::solve(double relative_tolerance, int max_cycles,
+                                               bool accelerate) {
   CorotatedReport report;
   Timer timer;
   report.nonlinear.push_back(nonlinear_residual());
@@ -241,16 +345,30 @@ CorotatedReport CorotatedMultigrid<Dim>::solve(double relative_tolerance, int ma
   const double initial = report.nonlinear.front();
   if (!std::isfinite(initial))
     throw Error("the initial co-rotated residual is not finite (NaN or Inf in loads or values)");
+  AndersonMixing anderson(m_options.acceleration_depth);
   for (int cycle = 0; cycle < max_cycles; ++cycle) {
     if (initial == 0.0) {
       report.converged = true;
       break;
     }
-    report.quasi_linear.push_back(vcycle());
-    report.nonlinear.push_back(nonlinear_residual());
+    if (accelerate && m_options.acceleration_depth > 0) {
+      double quasi_linear = 0;
+      report.nonlinear.push_back(
+          accelerated_cycle(anderson, report.nonlinear.back(), quasi_linear));
+      report.quasi_linear.push_back(quasi_linear);
+    } else {
+      report.quasi_linear.push_back(solve_cycle());
+      report.nonlinear.push_back(nonlinear_residual());
+    }
     if (!std::isfinite(report.nonlinear.back()) || !std::isfinite(report.quasi_linear.back()))
       throw Error("co-rotated multigrid diverged: residual not finite after cycle " +
                   std::to_string(cycle + 1));
+    // A cold start may overshoot (the first refresh of a bent bar: 15x), never by this much;
+    // stopping here keeps the iterate finite instead of growing to Inf over many steps.
+    if (report.nonlinear.back() > kDivergenceGrowth * initial)
+      throw Error("co-rotated multigrid diverged: non-linear residual grew from " +
+                  scientific(initial) + " to " + scientific(report.nonlinear.back()) +
+                  " by cycle " + std::to_string(cycle + 1));
     if (report.nonlinear.back() <= relative_tolerance * initial) {
       report.converged = true;
       break;

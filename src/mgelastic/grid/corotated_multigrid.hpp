@@ -16,6 +16,7 @@
 // Residuals: the quasi-linear one (rows of the current frozen rotations) and the true
 // non-linear one (rotations of the current displacement), both in the norm of residual.hpp.
 // Double precision only.
+#include <Eigen/Core>
 #include <memory>
 #include <vector>
 
@@ -24,12 +25,17 @@
 
 namespace mgelastic::grid {
 
+class AndersonMixing;
+
 struct CorotatedOptions {
   int rotation_update_every = 5;  // V-cycles between rotation refreshes (k >= 1)
   double block_weight = 1.0;      // relaxation weight of the box smoother
   int sweeps = 2;                 // box sweeps before and after each coarse correction
   int relocation_sweeps = 2;      // extra sweeps over Fig. 8 relocated-boundary blocks
   CorotatedStress stress = CorotatedStress::SYMMETRIZED;
+  // Anderson history of solve()'s outer iteration (corotated_acceleration.hpp); 0 = plain
+  // frozen-rotation (Picard) cycles.
+  int acceleration_depth = 3;
 };
 
 struct CorotatedReport {
@@ -57,9 +63,12 @@ class CorotatedMultigrid {
   // returns the quasi-linear residual after it.
   double vcycle();
   // Cycles until the non-linear residual <= tolerance * initial or max_cycles. Throws Error when
-  // the residual stops being finite.
-  CorotatedReport solve(double relative_tolerance, int max_cycles);
-  CorotatedReport run_cycles(int cycles) { return solve(0.0, cycles); }
+  // the residual stops being finite. `accelerate`: Anderson-mixed cycles (options'
+  // acceleration_depth), otherwise plain frozen-rotation cycles.
+  CorotatedReport solve(double relative_tolerance, int max_cycles, bool accelerate = true);
+  // A fixed number of plain cycles (a backward-Euler step): from a warm start two plain
+  // refreshes reduce the step's residual more than two mixed ones (docs/grid-engine.md).
+  CorotatedReport run_cycles(int cycles) { return solve(0.0, cycles, false); }
 
   int levels() const { return m_multigrid.levels(); }
   std::size_t unknowns() const { return m_multigrid.unknowns(); }
@@ -72,7 +81,15 @@ class CorotatedMultigrid {
  private:
   struct Blocks;
   struct CoarseFactor;
+  struct FreshRows;
   void build_level_system(int l);
+  void build_level_system(int l, CorotatedRows rows);
+  void refresh_rotations(FreshRows fresh);
+  // One cycle of solve(): refreshes with the rows of the last non-linear residual when due.
+  double solve_cycle();
+  double accelerated_cycle(AndersonMixing& anderson, double previous, double& quasi_linear);
+  Eigen::VectorXd gather_unknowns() const;
+  void scatter_unknowns(const Eigen::VectorXd& values);
   void smooth(int l, bool forward, bool relocated_only);
   void correct(int l);
   void back_substitute(int l);
@@ -84,6 +101,9 @@ class CorotatedMultigrid {
   std::vector<CorotatedRows> m_rows;
   std::vector<std::unique_ptr<Blocks>> m_blocks;
   std::unique_ptr<CoarseFactor> m_coarse;
+  // Rotations and finest rows of the displacement at the last non-linear residual of solve();
+  // a due refresh reuses them instead of rebuilding the same rows.
+  std::unique_ptr<FreshRows> m_fresh;
   int m_cycles_since_refresh = 0;
 };
 

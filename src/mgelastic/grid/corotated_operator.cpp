@@ -1,8 +1,11 @@
 #include "mgelastic/grid/corotated_operator.hpp"
 
+#include <omp.h>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
+#include <stdexcept>
 
 namespace mgelastic::grid {
 namespace {
@@ -12,10 +15,45 @@ struct Term {
   double coefficient;
 };
 
+// Sinks of the row builder: Row collects the terms of one equation; RowEvaluation applies
+// them to the level's current x on the fly (the non-linear residual needs no stored rows).
 struct Row {
-  std::vector<Term> terms;
+  // A momentum row has up to ~450 raw terms (2 Dim stresses, each up to Dim^2 averaged
+  // gradients); fixed storage keeps the builder's inner loop free of capacity checks.
+  static constexpr int kCapacity = 1024;
+  std::array<Term, kCapacity> terms;
+  int count = 0;
   double constant = 0.0;
-  void add(std::uint32_t variable, double coefficient) { terms.push_back({variable, coefficient}); }
+  void add(std::uint32_t variable, double coefficient) {
+    if (count < kCapacity) terms[count++] = {variable, coefficient};
+  }
+  void clear() {
+    count = 0;
+    constant = 0.0;
+  }
+};
+
+template <int Dim>
+struct RowEvaluation {
+  const Level<Dim, double>* level;
+  double value = 0.0;  // row . x
+  double constant = 0.0;
+  void add(std::uint32_t variable, double coefficient) {
+    value += coefficient * level->at(variable);
+  }
+  void clear() { value = constant = 0.0; }
+};
+
+// At most four lattice indices (the cells around an edge, the edges around a cell's face pair):
+// no heap allocation in the row builder's inner loops.
+struct Quad {
+  std::array<std::ptrdiff_t, 4> items{};
+  int count = 0;
+  void push_back(std::ptrdiff_t k) { items[count++] = k; }
+  bool empty() const { return count == 0; }
+  std::size_t size() const { return static_cast<std::size_t>(count); }
+  const std::ptrdiff_t* begin() const { return items.data(); }
+  const std::ptrdiff_t* end() const { return items.data() + count; }
 };
 
 template <int Dim>
@@ -33,8 +71,22 @@ class CorotatedRowBuilder {
         m_mu(level.mu),
         m_inv_h(1.0 / level.lattice.h) {}
 
-  Row momentum(int i, std::ptrdiff_t k) const {
-    Row row;
+  // P_ii at a cell and P_ij at an (i, j) edge for the level's current x, exactly as a momentum
+  // row adds them (traction values included).
+  double normal_stress(int i, std::ptrdiff_t cell) const {
+    RowEvaluation<Dim> stress{&m_level};
+    add_normal_stress(i, cell, 1.0, stress);
+    return stress.value + stress.constant;
+  }
+  double shear_stress(int i, int j, std::ptrdiff_t edge) const {
+    RowEvaluation<Dim> stress{&m_level};
+    add_shear_stress(i, j, edge, 1.0, stress);
+    return stress.value + stress.constant;
+  }
+
+  template <typename Sink>
+  void momentum(int i, std::ptrdiff_t k, Sink& row) const {
+    row.clear();
     const std::ptrdiff_t si = m_lat.stride(i);
     add_normal_stress(i, k, m_inv_h, row);
     add_normal_stress(i, k - si, -m_inv_h, row);
@@ -44,15 +96,15 @@ class CorotatedRowBuilder {
       add_shear_stress(i, j, k, -m_inv_h, row);
     }
     if (m_level.inertia != 0.0) row.add(u(i, k), -m_level.inertia);
-    return row;
   }
 
-  Row pressure(std::ptrdiff_t c) const {
-    Row row;
+  template <typename Sink>
+  void pressure(std::ptrdiff_t c, Sink& row) const {
+    row.clear();
     const double lambda = m_level.lambda;
     if (lambda <= 0) {  // incompressibility term absent: p is identically zero
       row.add(u(Dim, c), 1.0);
-      return row;
+      return;
     }
     const Matrix<Dim>& r = m_rot[c];
     for (int i = 0; i < Dim; ++i) {
@@ -72,13 +124,12 @@ class CorotatedRowBuilder {
     }
     row.add(u(Dim, c), m_mu * m_mu / lambda);
     if (!m_homogeneous) row.constant -= m_mu * (Dim - r.trace());
-    return row;
   }
 
   // Interior cells incident to edge (i, j) at e, or none when one of them is exterior.
-  std::optional<std::vector<std::ptrdiff_t>> edge_cells(int i, int j, std::ptrdiff_t e) const {
+  std::optional<Quad> edge_cells(int i, int j, std::ptrdiff_t e) const {
     const std::ptrdiff_t si = m_lat.stride(i), sj = m_lat.stride(j);
-    std::vector<std::ptrdiff_t> cells;
+    Quad cells;
     for (std::ptrdiff_t c : {e, e - si, e - sj, e - si - sj}) {
       if (m_level.cells[c] == CellType::EXTERIOR) return std::nullopt;
       if (m_level.cells[c] == CellType::INTERIOR) cells.push_back(c);
@@ -108,7 +159,8 @@ class CorotatedRowBuilder {
   }
 
   // weight * P_ii(cell), P_ii = 2 mu G_ii + 2 mu (1 - R_ii) - mu R_ii p.
-  void add_normal_stress(int i, std::ptrdiff_t cell, double weight, Row& row) const {
+  template <typename Sink>
+  void add_normal_stress(int i, std::ptrdiff_t cell, double weight, Sink& row) const {
     if (const auto where = traction_face(i, cell)) {
       row.constant += weight * sigma(i, i, *where);
       return;
@@ -128,7 +180,8 @@ class CorotatedRowBuilder {
   }
 
   // weight * P_ij(edge), P_ij = 2 mu G_ij - 2 mu <R_ij> - mu <R_ij p> (edge means).
-  void add_shear_stress(int i, int j, std::ptrdiff_t e, double weight, Row& row) const {
+  template <typename Sink>
+  void add_shear_stress(int i, int j, std::ptrdiff_t e, double weight, Sink& row) const {
     const auto cells = edge_cells(i, j, e);
     if (!cells) {
       row.constant += weight * sigma(i, j, m_lat.edge_center(i, j, e));
@@ -158,8 +211,8 @@ class CorotatedRowBuilder {
 
   // weight * (mu G_ij + mu (R G^T R)_ij + mu ((I - R)^2)_ij), the p-free part of the symmetrized
   // stress mu R (R^T F + F^T R - 2 I) - mu p R; `gradient(a, b, w)` adds w G_ab at the location.
-  template <typename Gradient>
-  void add_symmetrized_stress(int i, int j, const Matrix<Dim>& r, double weight, Row& row,
+  template <typename Sink, typename Gradient>
+  void add_symmetrized_stress(int i, int j, const Matrix<Dim>& r, double weight, Sink& row,
                               const Gradient& gradient) const {
     for (int a = 0; a < Dim; ++a)
       for (int b = 0; b < Dim; ++b) {
@@ -177,7 +230,8 @@ class CorotatedRowBuilder {
   // w G_ab at the center of cell c. A diagonal gradient across a traction face follows from
   // P_aa = sigma (2 mu G_aa = sigma - 2 mu (1 - R_aa) + mu R_aa p); an off-diagonal one is the
   // mean over the cell's edges with known faces, or its rigid value R_ab without any.
-  void add_cell_gradient(int a, int b, std::ptrdiff_t c, double w, Row& row) const {
+  template <typename Sink>
+  void add_cell_gradient(int a, int b, std::ptrdiff_t c, double w, Sink& row) const {
     const std::ptrdiff_t sa = m_lat.stride(a);
     if (a == b) {
       const auto where =
@@ -193,7 +247,7 @@ class CorotatedRowBuilder {
       return;
     }
     const std::ptrdiff_t sb = m_lat.stride(b);
-    std::vector<std::ptrdiff_t> edges;
+    Quad edges;
     for (std::ptrdiff_t e : {c, c + sa, c + sb, c + sa + sb})
       if (known(a, e) && known(a, e - sb)) edges.push_back(e);
     if (edges.empty()) {
@@ -210,7 +264,8 @@ class CorotatedRowBuilder {
   // w G_ab at the (i, j) edge e (all incident cells non-exterior): natural for {a, b} = {i, j};
   // diagonal ones averaged over the incident cells; the others (3D, with the third axis t)
   // averaged over the four (a, b) edges around, those with known faces.
-  void add_edge_gradient(int a, int b, int i, int j, std::ptrdiff_t e, double w, Row& row) const {
+  template <typename Sink>
+  void add_edge_gradient(int a, int b, int i, int j, std::ptrdiff_t e, double w, Sink& row) const {
     const std::ptrdiff_t sb = m_lat.stride(b);
     if (a == b) {
       const std::ptrdiff_t si = m_lat.stride(i), sj = m_lat.stride(j);
@@ -230,7 +285,7 @@ class CorotatedRowBuilder {
     const int other = (a == i || b == i) ? j : i;
     const int t = 3 - i - j;
     const std::ptrdiff_t so = m_lat.stride(other), st = m_lat.stride(t);
-    std::vector<std::ptrdiff_t> edges;
+    Quad edges;
     for (std::ptrdiff_t m : {e, e - so, e + st, e - so + st})
       if (known(a, m) && known(a, m - sb)) edges.push_back(m);
     if (edges.empty()) {
@@ -246,10 +301,11 @@ class CorotatedRowBuilder {
 
   // mu R_ij(c) <G_ij> over the cell's edges whose two u_i faces are known variables; with none
   // (one-cell-thin features) G_ij is frozen at its rigid value R_ij.
-  void add_cell_shear_gradient(int i, int j, std::ptrdiff_t c, Row& row) const {
+  template <typename Sink>
+  void add_cell_shear_gradient(int i, int j, std::ptrdiff_t c, Sink& row) const {
     const std::ptrdiff_t si = m_lat.stride(i), sj = m_lat.stride(j);
     const double rij = m_rot[c](i, j);
-    std::vector<std::ptrdiff_t> edges;
+    Quad edges;
     for (std::ptrdiff_t e : {c, c + si, c + sj, c + si + sj})
       if (known(i, e) && known(i, e - sj)) edges.push_back(e);
     if (edges.empty()) {
@@ -271,22 +327,71 @@ class CorotatedRowBuilder {
   double m_mu, m_inv_h;
 };
 
-void append(CorotatedRows& rows, std::uint32_t target, Row row) {
-  std::sort(row.terms.begin(), row.terms.end(),
-            [](const Term& a, const Term& b) { return a.variable < b.variable; });
-  rows.row_of[target] = static_cast<std::int32_t>(rows.rows());
-  rows.target.push_back(target);
-  for (std::size_t t = 0; t < row.terms.size(); ++t) {
-    if (!rows.column.empty() && rows.start.back() < rows.column.size() &&
-        rows.column.back() == row.terms[t].variable) {
-      rows.value.back() += row.terms[t].coefficient;
-      continue;
+// Sums a row's repeated variables (a stress location shared by several terms) with a dense
+// hash table and emits them in increasing variable order. One per thread, kept between builds
+// (slots are emptied after use).
+class RowCompressor {
+ public:
+  void compress(const Row& row, std::vector<std::uint32_t>& column, std::vector<double>& value) {
+    if (row.count >= Row::kCapacity)
+      throw std::logic_error("co-rotated row builder: more than Row::kCapacity terms");
+    // Open addressing in a small table (L1-resident): a row has ~60 distinct variables.
+    m_touched.clear();
+    for (int t = 0; t < row.count; ++t) {
+      const Term& term = row.terms[t];
+      std::uint32_t slot = (term.variable * 2654435761u) >> (32 - kBits);
+      while (m_key[slot] != kEmpty && m_key[slot] != term.variable) slot = (slot + 1) & kMask;
+      if (m_key[slot] == kEmpty) {
+        m_key[slot] = term.variable;
+        m_sum[slot] = 0.0;
+        m_touched.push_back(slot);
+      }
+      m_sum[slot] += term.coefficient;
     }
-    rows.column.push_back(row.terms[t].variable);
-    rows.value.push_back(row.terms[t].coefficient);
+    std::sort(m_touched.begin(), m_touched.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return m_key[a] < m_key[b]; });
+    for (std::uint32_t slot : m_touched) {
+      column.push_back(m_key[slot]);
+      value.push_back(m_sum[slot]);
+      m_key[slot] = kEmpty;
+    }
   }
-  rows.start.push_back(static_cast<std::uint32_t>(rows.column.size()));
-  rows.constant.push_back(row.constant);
+
+ private:
+  static constexpr int kBits = 11;  // 2048 slots for at most Row::kCapacity distinct variables
+  static constexpr std::uint32_t kMask = (1u << kBits) - 1;
+  static constexpr std::uint32_t kEmpty = ~0u;
+  std::array<std::uint32_t, 1u << kBits> m_key = make_empty();
+  std::array<double, 1u << kBits> m_sum{};
+  std::vector<std::uint32_t> m_touched;
+  static std::array<std::uint32_t, 1u << kBits> make_empty() {
+    std::array<std::uint32_t, 1u << kBits> keys;
+    keys.fill(kEmpty);
+    return keys;
+  }
+};
+
+// Interior variables in lattice order, all variables of one location together (a front-like
+// Gauss-Seidel order for the box smoother).
+template <int Dim>
+std::vector<std::uint32_t> row_targets(const Level<Dim, double>& level) {
+  std::vector<std::uint32_t> targets;
+  const auto n = static_cast<std::ptrdiff_t>(level.size());
+  for (std::ptrdiff_t k = 0; k < n; ++k)
+    for (int field = 0; field <= Dim; ++field)
+      if (level.kind[field][k] == VarKind::INTERIOR) targets.push_back(level.global(field, k));
+  return targets;
+}
+
+template <int Dim, typename Sink>
+void build_row(const CorotatedRowBuilder<Dim>& builder, std::uint32_t target, std::size_t n,
+               Sink& row) {
+  const int field = static_cast<int>(target / n);
+  const auto k = static_cast<std::ptrdiff_t>(target % n);
+  if (field < Dim)
+    builder.momentum(field, k, row);
+  else
+    builder.pressure(k, row);
 }
 
 }  // namespace
@@ -303,18 +408,114 @@ CorotatedRows build_corotated_rows(const Level<Dim, double>& level,
                                    const BoundaryStress<Dim>& sigma, bool homogeneous,
                                    CorotatedStress form) {
   const CorotatedRowBuilder<Dim> builder(level, rotations, sigma, homogeneous, form);
-  const auto n = static_cast<std::ptrdiff_t>(level.size());
+  const std::size_t n = level.size();
   CorotatedRows rows;
+  rows.target = row_targets(level);
   rows.row_of.assign((Dim + 1) * n, -1);
-  // Lattice order, all variables of one location together (a front-like Gauss-Seidel order).
-  for (std::ptrdiff_t k = 0; k < n; ++k) {
-    for (int i = 0; i < Dim; ++i)
-      if (level.kind[i][k] == VarKind::INTERIOR)
-        append(rows, level.global(i, k), builder.momentum(i, k));
-    if (level.kind[Dim][k] == VarKind::INTERIOR)
-      append(rows, level.global(Dim, k), builder.pressure(k));
+  const auto count = static_cast<std::ptrdiff_t>(rows.target.size());
+  for (std::ptrdiff_t m = 0; m < count; ++m)
+    rows.row_of[rows.target[m]] = static_cast<std::int32_t>(m);
+  rows.constant.resize(count);
+  // Rows are independent: each thread builds a contiguous range into its own arrays, which are
+  // then joined in row order (the result does not depend on the thread count).
+  std::vector<std::vector<std::uint32_t>> columns, lengths;
+  std::vector<std::vector<double>> values;
+#pragma omp parallel
+  {
+#pragma omp single
+    {
+      columns.resize(omp_get_num_threads());
+      values.resize(columns.size());
+      lengths.resize(columns.size());
+    }
+    const int thread = omp_get_thread_num(), threads = omp_get_num_threads();
+    const std::ptrdiff_t first = count * thread / threads, last = count * (thread + 1) / threads;
+    thread_local RowCompressor compressor;
+    thread_local Row row;
+    columns[thread].reserve(static_cast<std::size_t>(last - first) * 64);
+    values[thread].reserve(static_cast<std::size_t>(last - first) * 64);
+    for (std::ptrdiff_t m = first; m < last; ++m) {
+      build_row(builder, rows.target[m], n, row);
+      const std::size_t before = columns[thread].size();
+      compressor.compress(row, columns[thread], values[thread]);
+      lengths[thread].push_back(static_cast<std::uint32_t>(columns[thread].size() - before));
+      rows.constant[m] = row.constant;
+    }
+  }
+  rows.start.reserve(count + 1);
+  for (const auto& part : lengths)
+    for (std::uint32_t length : part) rows.start.push_back(rows.start.back() + length);
+  if (columns.size() == 1) {
+    rows.column = std::move(columns.front());
+    rows.value = std::move(values.front());
+    return rows;
+  }
+  rows.column.reserve(rows.start.back());
+  rows.value.reserve(rows.start.back());
+  for (std::size_t t = 0; t < columns.size(); ++t) {
+    rows.column.insert(rows.column.end(), columns[t].begin(), columns[t].end());
+    rows.value.insert(rows.value.end(), values[t].begin(), values[t].end());
   }
   return rows;
+}
+
+// Each stress is evaluated once (a momentum row reads 2 Dim of them, each shared by two rows),
+// at the locations next to an interior face: P_ii at cells, P_ij at (i, j) edges.
+template <int Dim>
+double corotated_residual(Level<Dim, double>& level, const std::vector<Matrix<Dim>>& rotations,
+                          const BoundaryStress<Dim>& sigma, bool homogeneous,
+                          CorotatedStress form) {
+  const CorotatedRowBuilder<Dim> builder(level, rotations, sigma, homogeneous, form);
+  const auto& lat = level.lattice;
+  const auto n = static_cast<std::ptrdiff_t>(level.size());
+  const double inv_h = 1.0 / lat.h;
+  auto interior = [&](int i, std::ptrdiff_t k) { return level.kind[i][k] == VarKind::INTERIOR; };
+  std::array<std::vector<double>, Dim * Dim> stress;  // [i * Dim + j][location]
+  for (auto& field : stress) field.assign(n, 0.0);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t k = 0; k < n; ++k)
+    for (int i = 0; i < Dim; ++i) {
+      const std::ptrdiff_t si = lat.stride(i);
+      if (interior(i, k) || (k + si < n && interior(i, k + si)))
+        stress[i * Dim + i][k] = builder.normal_stress(i, k);
+      for (int j = 0; j < Dim; ++j) {
+        const std::ptrdiff_t sj = lat.stride(j);
+        if (j != i && (interior(i, k) || (k >= sj && interior(i, k - sj))))
+          stress[i * Dim + j][k] = builder.shear_stress(i, j, k);
+      }
+    }
+  for (auto& field : level.r) std::fill(field.begin(), field.end(), 0.0);
+  const std::vector<std::uint32_t> targets = row_targets(level);
+  const auto count = static_cast<std::ptrdiff_t>(targets.size());
+  const auto size = static_cast<std::size_t>(n);
+#pragma omp parallel
+  {
+    RowEvaluation<Dim> row{&level};
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t m = 0; m < count; ++m) {
+      const std::uint32_t t = targets[m];
+      const int i = static_cast<int>(t / size);
+      const std::ptrdiff_t k = t % size;
+      double lhs;
+      if (i < Dim) {
+        const auto& p = stress;
+        double divergence = p[i * Dim + i][k] - p[i * Dim + i][k - lat.stride(i)];
+        for (int j = 0; j < Dim; ++j)
+          if (j != i) divergence += p[i * Dim + j][k + lat.stride(j)] - p[i * Dim + j][k];
+        lhs = inv_h * divergence - level.inertia * level.x[i][k];
+      } else {
+        builder.pressure(k, row);
+        lhs = row.value + row.constant;
+      }
+      level.r[i][k] = level.b[i][k] - lhs;
+    }
+  }
+  // Summed in row order: the same norm for every thread count.
+  double sum = 0.0;
+  for (std::uint32_t t : targets)
+    if (t / size < static_cast<std::size_t>(Dim) || level.lambda > 0)
+      sum += level.r[t / size][t % size] * level.r[t / size][t % size];
+  return std::sqrt(sum);
 }
 
 template <int Dim>
@@ -395,6 +596,8 @@ void corotated_back_substitute(Level<Dim, double>& level, const std::vector<Matr
                                                  const std::vector<Matrix<D>>&,                    \
                                                  const BoundaryStress<D>&, bool, CorotatedStress); \
   template double corotated_residual<D>(Level<D, double>&, const CorotatedRows&);                  \
+  template double corotated_residual<D>(Level<D, double>&, const std::vector<Matrix<D>>&,          \
+                                        const BoundaryStress<D>&, bool, CorotatedStress);          \
   template void corotated_back_substitute<D>(Level<D, double>&, const std::vector<Matrix<D>>&,     \
                                              const BoundaryStress<D>&, bool);
 MGELASTIC_INSTANTIATE(2)

@@ -63,6 +63,13 @@ CorotatedRows build_corotated_rows(const Level<Dim, double>& level,
 template <int Dim>
 double corotated_residual(Level<Dim, double>& level, const CorotatedRows& rows);
 
+// The same residual for the rows build_corotated_rows(level, rotations, ...) would give, each
+// row applied as it is built (no stored rows: the non-linear residual between refreshes).
+template <int Dim>
+double corotated_residual(Level<Dim, double>& level, const std::vector<Matrix<Dim>>& rotations,
+                          const BoundaryStress<Dim>& sigma, bool homogeneous,
+                          CorotatedStress form = CorotatedStress::SYMMETRIZED);
+
 // Sets the traction variables from the co-rotated traction conditions (P_ii = sigma at normal
 // faces, P_ij = sigma at the faces half a cell outside), the rules of level.traction with the
 // co-rotated stress; homogeneous drops sigma and the R-only terms (coarse corrections).
