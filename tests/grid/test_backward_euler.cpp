@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <string>
 
+#include "dynamics_test_support.hpp"
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/threads.hpp"
 #include "mgelastic/grid/backward_euler.hpp"
@@ -18,20 +19,8 @@
 namespace mgelastic::grid {
 namespace {
 
-// A bar of nx x n x n cells of size h along x; the cells with x index <= fixed are Dirichlet
-// (none when fixed = 0).
-ElasticityProblem<3> bar(int nx, int n, double h, int fixed, const Material& material) {
-  ElasticityProblem<3> problem;
-  problem.lattice = Lattice<3>(IVec<3>(nx, n, n), h);
-  problem.material = material;
-  problem.cells.assign(problem.lattice.size(), CellType::EXTERIOR);
-  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(problem.lattice.size()); ++k) {
-    const IVec<3> s = problem.lattice.coords(k);
-    if (!problem.lattice.is_real(s)) continue;
-    problem.cells[k] = s[0] <= fixed ? CellType::DIRICHLET : CellType::INTERIOR;
-  }
-  return problem;
-}
+using test::bar;
+using test::bending_velocity;
 
 // Elastic energy 1/2 u^T A u h^3 of the discrete static system (zero Dirichlet values).
 class ElasticEnergy {
@@ -51,14 +40,6 @@ class ElasticEnergy {
   Level<3, double> m_level;
   NonAugmentedSystem<3> m_system;
 };
-
-// The cantilever's first-mode-like velocity profile v_y = speed ((x - x0) / length)^2.
-BackwardEuler<3, double>::VectorField bending_velocity(double x0, double length, double speed) {
-  return [=](const Vec<3>& x) {
-    const double s = std::max(0.0, (x[0] - x0) / length);
-    return Vec<3>(0.0, speed * s * s, 0.0);
-  };
-}
 
 // The lattices here are small and some tests take 1000 steps: one thread avoids the OpenMP
 // overhead, which dominates on small lattices and on a loaded machine (results do not depend on
@@ -201,19 +182,13 @@ std::pair<double, double> step_rates(double poisson, double dt, int steps, bool*
   problem.body_force = [](const Vec<3>&) { return Vec<3>(0, -9.81 * kDensity, 0); };
   BackwardEuler<3, float> sim(problem, {.dt = dt, .density = kDensity});
   sim.set_velocity(bending_velocity(0.02, 0.3, 0.5));
-  double worst = 0, log_sum = 0;
+  test::StepRates rates;
   for (int n = 0; n < steps; ++n) {
     const SolveReport report = sim.step();
-    const double rate = report.residuals.back() / report.residuals.front();
-    worst = std::max(worst, rate);
-    log_sum += std::log(rate);
+    rates.add(report.residuals.back() / report.residuals.front());
   }
-  if (finite) {
-    *finite = true;
-    for (const auto& v : sim.velocity())
-      for (double x : v) *finite = *finite && std::isfinite(x);
-  }
-  return {std::exp(log_sum / steps), worst};
+  if (finite) *finite = test::all_finite(sim.velocity());
+  return rates.mean_and_worst();
 }
 
 TEST_F(BackwardEulerDynamics, OneVCyclePerStepReducesTheResidualAt30Fps) {

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <string>
 
+#include "dynamics_test_support.hpp"
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/threads.hpp"
 #include "mgelastic/grid/corotated_dynamics.hpp"
@@ -15,41 +16,9 @@
 namespace mgelastic::grid {
 namespace {
 
-// A bar of nx x n x n cells of size h along x, the cells with x index <= fixed Dirichlet.
-ElasticityProblem<3> bar(int nx, int n, double h, int fixed, const Material& material) {
-  ElasticityProblem<3> problem;
-  problem.lattice = Lattice<3>(IVec<3>(nx, n, n), h);
-  problem.material = material;
-  problem.cells.assign(problem.lattice.size(), CellType::EXTERIOR);
-  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(problem.lattice.size()); ++k) {
-    const IVec<3> s = problem.lattice.coords(k);
-    if (!problem.lattice.is_real(s)) continue;
-    problem.cells[k] = s[0] <= fixed ? CellType::DIRICHLET : CellType::INTERIOR;
-  }
-  return problem;
-}
-
-// Co-rotated elastic energy mu |S - I|^2 + lambda/2 tr(S - I)^2 (S = R^T F) over interior cells.
-double corotated_energy(const Level<3, double>& level, const Material& material) {
-  double energy = 0;
-  const double volume = std::pow(level.lattice.h, 3);
-  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(level.size()); ++k) {
-    if (level.cells[k] != CellType::INTERIOR) continue;
-    const Matrix<3> f = cell_deformation_gradient(level, k);
-    const Matrix<3> e = polar_rotation<3>(f).transpose() * f - Matrix<3>::Identity();
-    energy += volume *
-              (material.mu() * e.squaredNorm() + 0.5 * material.lambda() * e.trace() * e.trace());
-  }
-  return energy;
-}
-
-// v_y = speed ((x - x0) / length)^2: the cantilever's first-mode-like velocity.
-CorotatedBackwardEuler<3>::VectorField bending_velocity(double x0, double length, double speed) {
-  return [=](const Vec<3>& x) {
-    const double s = std::max(0.0, (x[0] - x0) / length);
-    return Vec<3>(0.0, speed * s * s, 0.0);
-  };
-}
+using test::bar;
+using test::bending_velocity;
+using test::corotated_energy;
 
 class CorotatedDynamics : public ::testing::Test {
  protected:
@@ -126,19 +95,13 @@ std::pair<double, double> step_rates(double poisson, double dt, int steps, int e
                                 {.dt = dt, .density = kDensity, .vcycles_per_step = cycles}, {},
                                 {.rotation_update_every = every});
   sim.set_velocity(bending_velocity(0.02, 0.3, 1.0));
-  double worst = 0, log_sum = 0;
+  test::StepRates rates;
   for (int n = 0; n < steps; ++n) {
     const CorotatedReport report = sim.step();
-    const double rate = report.nonlinear.back() / report.nonlinear.front();
-    worst = std::max(worst, rate);
-    log_sum += std::log(rate);
+    rates.add(report.nonlinear.back() / report.nonlinear.front());
   }
-  if (finite) {
-    *finite = true;
-    for (const auto& v : sim.velocity())
-      for (double x : v) *finite = *finite && std::isfinite(x);
-  }
-  return {std::exp(log_sum / steps), worst};
+  if (finite) *finite = test::all_finite(sim.velocity());
+  return rates.mean_and_worst();
 }
 
 // One cycle per step is one frozen-rotation (Picard) iteration. Measured over 30 steps: mean

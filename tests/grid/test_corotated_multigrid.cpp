@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "dynamics_test_support.hpp"
 #include "grid_test_support.hpp"
 #include "mgelastic/core/threads.hpp"
 #include "mgelastic/grid/corotated_dynamics.hpp"
@@ -16,6 +17,7 @@ namespace mgelastic::grid {
 namespace {
 
 using Field = std::function<Vec<3>(const Vec<3>&)>;
+using test::corotated_energy;
 
 // A bar along x of n x n/4 x n/4 cells, length 1, with Dirichlet cells at x = 0 and, unless
 // `cantilever`, at x = 1.
@@ -44,20 +46,6 @@ double max_face_error(const Level<3, double>& level, const Field& expected) {
           std::max(worst, std::abs(level.x[i][k] - expected(level.lattice.face_center(i, k))[i]));
     }
   return worst;
-}
-
-// Co-rotated elastic energy mu |S - I|^2 + lambda/2 tr(S - I)^2, S = R^T F, over interior cells.
-double corotated_energy(const Level<3, double>& level, const Material& material) {
-  double energy = 0;
-  const double volume = std::pow(level.lattice.h, 3);
-  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(level.size()); ++k) {
-    if (level.cells[k] != CellType::INTERIOR) continue;
-    const Matrix<3> f = cell_deformation_gradient(level, k);
-    const Matrix<3> e = polar_rotation<3>(f).transpose() * f - Matrix<3>::Identity();
-    energy += volume *
-              (material.mu() * e.squaredNorm() + 0.5 * material.lambda() * e.trace() * e.trace());
-  }
-  return energy;
 }
 
 bool all_finite(const Level<3, double>& level) {
