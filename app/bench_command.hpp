@@ -18,6 +18,8 @@ struct BoxBenchOptions {
   std::string cycle = "V";
   bool json = false;
   int threads = 0;
+  // bench cg: leave out the unpreconditioned CG (minutes at 128^3), keep hypre and multigrid.
+  bool skip_cg = false;
 };
 
 void register_bench_commands(CLI::App& app);
