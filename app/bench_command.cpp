@@ -95,7 +95,7 @@ double process_cpu_seconds() {
   return static_cast<double>(std::clock()) / CLOCKS_PER_SEC;
 }
 
-template <int Dim>
+template <int Dim, typename Scalar>
 nlohmann::json cg(const BoxBenchOptions& o) {
   // The level's classification and Dirichlet values give the same discrete problem as the
   // multigrid solver sees; only the finest level is needed. The whole hierarchy is built (cheap)
@@ -114,7 +114,7 @@ nlohmann::json cg(const BoxBenchOptions& o) {
   if (!o.skip_cg) report = grid::conjugate_gradient(a, rhs, u, o.tolerance, 100000);
   const double cg_cpu = process_cpu_seconds() - cpu;
   // The multigrid solver on the same problem and tolerance, side by side in the same run.
-  grid::Multigrid<Dim, double> solver(problem, multigrid_options(o));
+  grid::Multigrid<Dim, Scalar> solver(problem, multigrid_options(o));
   cpu = process_cpu_seconds();
   const grid::SolveReport mg_report = solver.solve(o.tolerance, 200);
   const double mg_cpu = process_cpu_seconds() - cpu;
@@ -138,6 +138,7 @@ nlohmann::json cg(const BoxBenchOptions& o) {
           {"multigrid_seconds", mg_report.seconds},
           {"multigrid_cpu_seconds", mg_cpu},
           {"multigrid_converged", mg_report.converged},
+          {"multigrid_precision", o.precision},
           {"dim", Dim},
           {"n", o.n},
           {"poisson", o.poisson},
@@ -192,8 +193,8 @@ void print_cg(const nlohmann::json& r) {
         r["hypre_setup_seconds"].get<double>(), r["hypre_solve_seconds"].get<double>(),
         r["hypre_cpu_seconds"].get<double>());
   }
-  std::printf("multigrid: %5d V(1,1) cycles to the same tolerance (%s), %.3f s (%.3f s CPU)\n",
-              r["multigrid_cycles"].get<int>(),
+  std::printf("multigrid: %5d V(1,1) cycles (%s) to the same tolerance (%s), %.3f s (%.3f s CPU)\n",
+              r["multigrid_cycles"].get<int>(), r["multigrid_precision"].get<std::string>().c_str(),
               r["multigrid_converged"].get<bool>() ? "converged" : "NOT converged",
               r["multigrid_seconds"].get<double>(), r["multigrid_cpu_seconds"].get<double>());
 }
@@ -224,7 +225,12 @@ nlohmann::json run_convergence(const BoxBenchOptions& o) {
 }
 
 nlohmann::json run_cg(const BoxBenchOptions& o) {
-  return o.dim == 2 ? cg<2>(o) : cg<3>(o);
+  if (o.precision != "float" && o.precision != "double")
+    throw Error("must be 'float' or 'double' (got '" + o.precision + "')",
+                {.pointer = "--precision"});
+  const bool single = o.precision == "float";
+  if (o.dim == 2) return single ? cg<2, float>(o) : cg<2, double>(o);
+  return single ? cg<3, float>(o) : cg<3, double>(o);
 }
 
 void run_disc_accuracy(bool json) {
@@ -594,6 +600,8 @@ void register_bench_commands(CLI::App& app) {
       "cg", "Conjugate gradients on the non-augmented staggered system (Fig. 11 baseline)");
   add_box_options(cgc, cg_options);
   cgc->add_option("--tolerance", cg_options.tolerance, "Relative residual to reach");
+  cgc->add_option("--precision", cg_options.precision,
+                  "Multigrid precision: double (default) or float (mixed: residuals in double)");
   cgc->add_flag("--skip-cg", cg_options.skip_cg,
                 "Leave out the unpreconditioned CG (hypre and multigrid only; for 128^3 and up)");
   cgc->callback([] {
