@@ -368,7 +368,7 @@ void simulate_corotated(const scene::Scene& s, const scene::GridSetup& setup,
     try {
       if (setup.animated())
         solver.set_dirichlet_displacement(scene::dirichlet_displacement(setup, time));
-      report = solver.solve(s.tolerance, s.max_vcycles);
+      report = solver.solve_with_load_steps(s.tolerance, s.max_vcycles);
     } catch (const Error& e) {
       progress.finish();
       throw frame_failed(e, checkpoints, frame, time);

@@ -9,6 +9,7 @@
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/timer.hpp"
 #include "mgelastic/grid/corotated_acceleration.hpp"
+#include "mgelastic/grid/corotated_distributive_smoother.hpp"
 #include "mgelastic/grid/transfer.hpp"
 
 namespace mgelastic::grid {
@@ -23,6 +24,13 @@ struct CorotatedMultigrid<Dim>::Blocks {
   // Blocks holding a Fig. 8 relocated-boundary variable (Level::pre_restriction_rows and
   // post_prolongation_rows): swept again before restriction and after prolongation.
   std::vector<std::uint32_t> relocated;
+  // Blocks holding a row the linear level relaxes in its band (DISTRIBUTIVE smoother only).
+  std::vector<std::uint32_t> band;
+};
+
+template <int Dim>
+struct CorotatedMultigrid<Dim>::Interior {
+  CorotatedDistributiveSmoother<Dim> smoother;
 };
 
 template <int Dim>
@@ -86,7 +94,10 @@ void build_blocks(const Level<Dim, double>& level, const CorotatedRows& rows,
 template <int Dim>
 CorotatedMultigrid<Dim>::CorotatedMultigrid(const ElasticityProblem<Dim>& problem,
                                             MultigridOptions multigrid, CorotatedOptions options)
-    : m_multigrid(problem, multigrid), m_options(options), m_sigma(problem.boundary_stress) {
+    : m_multigrid(problem, multigrid),
+      m_options(options),
+      m_sigma(problem.boundary_stress),
+      m_sigma_full(problem.boundary_stress) {
   if (options.rotation_update_every < 1)
     throw Error("rotation_update_every must be at least 1, got " +
                     std::to_string(options.rotation_update_every),
@@ -94,6 +105,14 @@ CorotatedMultigrid<Dim>::CorotatedMultigrid(const ElasticityProblem<Dim>& proble
   m_rotations.resize(levels());
   m_rows.resize(levels());
   m_blocks.resize(levels());
+  m_interior.resize(levels());
+  const auto& finest = m_multigrid.level(0);
+  for (int f = 0; f < Dim; ++f)
+    for (std::size_t k = 0; k < finest.size(); ++k)
+      if (finest.kind[f][k] == VarKind::DIRICHLET) m_dirichlet.push_back(finest.global(f, k));
+  // Zero load: the state u = 0 the first solve_with_load_steps ramps from.
+  for (auto& field : m_equilibrium.b) field.assign(finest.size(), 0.0);
+  m_equilibrium.dirichlet.assign(m_dirichlet.size(), 0.0);
   refresh_rotations();
 }
 
@@ -172,6 +191,18 @@ void CorotatedMultigrid<Dim>::build_level_system(int l, CorotatedRows rows_of_le
         blocks->relocated.push_back(b);
         break;
       }
+  if (m_options.smoother == CorotatedSmoother::DISTRIBUTIVE) {
+    const std::size_t n = level.size();
+    for (std::uint32_t b = 0; b + 1 < blocks->start.size(); ++b)
+      for (std::uint32_t e = blocks->start[b]; e < blocks->start[b + 1]; ++e) {
+        const std::uint32_t t = m_rows[l].target[blocks->rows[e]];
+        if (level.relaxation[t / n][t % n] != Relaxation::DISTRIBUTIVE) {
+          blocks->band.push_back(b);
+          break;
+        }
+      }
+    m_interior[l] = std::make_unique<Interior>(Interior{{level, m_rows[l]}});
+  }
   m_blocks[l] = std::move(blocks);
 }
 
@@ -181,18 +212,21 @@ void CorotatedMultigrid<Dim>::back_substitute(int l) {
 }
 
 template <int Dim>
-void CorotatedMultigrid<Dim>::smooth(int l, bool forward, bool relocated_only) {
+void CorotatedMultigrid<Dim>::box_sweep(int l, bool forward, BlockSet set) {
   auto& level = m_multigrid.level(l);
   const CorotatedRows& rows = m_rows[l];
   const Blocks& blocks = *m_blocks[l];
   const std::size_t n = level.size();
-  const auto count = relocated_only ? static_cast<std::ptrdiff_t>(blocks.relocated.size())
-                                    : static_cast<std::ptrdiff_t>(blocks.start.size()) - 1;
+  const std::vector<std::uint32_t>* subset = set == BlockSet::BAND        ? &blocks.band
+                                             : set == BlockSet::RELOCATED ? &blocks.relocated
+                                                                          : nullptr;
+  const auto count = subset ? static_cast<std::ptrdiff_t>(subset->size())
+                            : static_cast<std::ptrdiff_t>(blocks.start.size()) - 1;
   constexpr int kMax = 2 * Dim + 1;
   std::array<double, kMax> r{}, delta{};
   for (std::ptrdiff_t step = 0; step < count; ++step) {
     const std::ptrdiff_t position = forward ? step : count - 1 - step;
-    const std::ptrdiff_t b = relocated_only ? blocks.relocated[position] : position;
+    const std::ptrdiff_t b = subset ? (*subset)[position] : position;
     const std::uint32_t first = blocks.start[b];
     const int m = static_cast<int>(blocks.start[b + 1] - first);
     for (int a = 0; a < m; ++a) {
@@ -210,6 +244,21 @@ void CorotatedMultigrid<Dim>::smooth(int l, bool forward, bool relocated_only) {
     }
     for (int a = 0; a < m; ++a)
       level.at(rows.target[blocks.rows[first + a]]) += m_options.block_weight * delta[a];
+  }
+}
+
+// One smoothing step, then the traction variables from the co-rotated traction conditions.
+template <int Dim>
+void CorotatedMultigrid<Dim>::smooth(int l, bool forward) {
+  if (m_options.smoother == CorotatedSmoother::BOX) {
+    box_sweep(l, forward, BlockSet::ALL);
+  } else {
+    // Sec. 5.2: a band pass, the interior distributive pass, a last band pass.
+    for (int sweep = 0; sweep < m_options.band_sweeps; ++sweep)
+      box_sweep(l, forward, BlockSet::BAND);
+    m_interior[l]->smoother.sweep(m_multigrid.level(l), m_rows[l]);
+    for (int sweep = 0; sweep < m_options.band_sweeps; ++sweep)
+      box_sweep(l, forward, BlockSet::BAND);
   }
   back_substitute(l);
 }
@@ -234,14 +283,20 @@ void CorotatedMultigrid<Dim>::correct(int l) {
     back_substitute(l);
     return;
   }
-  for (int sweep = 0; sweep < m_options.sweeps; ++sweep) smooth(l, true, false);
-  for (int sweep = 0; sweep < m_options.relocation_sweeps; ++sweep) smooth(l, true, true);
+  for (int sweep = 0; sweep < m_options.sweeps; ++sweep) smooth(l, true);
+  for (int sweep = 0; sweep < m_options.relocation_sweeps; ++sweep) {
+    box_sweep(l, true, BlockSet::RELOCATED);
+    back_substitute(l);
+  }
   corotated_residual(level, m_rows[l]);
   restrict_residual(level, m_multigrid.level(l + 1));
   correct(l + 1);
   prolongate_correction(m_multigrid.level(l + 1), level);
-  for (int sweep = 0; sweep < m_options.relocation_sweeps; ++sweep) smooth(l, false, true);
-  for (int sweep = 0; sweep < m_options.sweeps; ++sweep) smooth(l, false, false);
+  for (int sweep = 0; sweep < m_options.relocation_sweeps; ++sweep) {
+    box_sweep(l, false, BlockSet::RELOCATED);
+    back_substitute(l);
+  }
+  for (int sweep = 0; sweep < m_options.sweeps; ++sweep) smooth(l, false);
 }
 
 template <int Dim>

@@ -6,17 +6,21 @@
 // Hierarchy: the linear engine's levels (Multigrid: coarsening, classification, transfers,
 // Dirichlet values, right-hand sides) carry the fields; each level gets its own rows of (14)
 // with rotations restricted from the finer level (restrict_rotations), rebuilt at each refresh
-// together with the smoother's blocks and the coarsest LU factor. Smoother: multiplicative box
-// (Vanka) Gauss-Seidel, one block per interior cell = its interior faces and its pressure,
-// `sweeps` forward before and backward after the coarse correction (plus `relocation_sweeps`
-// over the blocks of the Fig. 8 relocated-boundary sets), traction variables back-substituted
-// with the co-rotated stress after each sweep. This replaces the paper's distributive smoother
-// with the generalized distribution (15) and its band rows (not built, see docs/grid-engine.md).
+// together with the smoother's blocks and the coarsest LU factor. Smoother (CorotatedSmoother):
+// BOX = multiplicative box (Vanka) Gauss-Seidel, one block per interior cell = its interior
+// faces and its pressure, `sweeps` forward before and backward after the coarse correction;
+// DISTRIBUTIVE = the paper's split: box sweeps over the band's cells, the distributive sweep
+// with the generalized distribution (15) over the interior (corotated_distributive_smoother.hpp,
+// multithreaded), the band again. Both add `relocation_sweeps` over the blocks of the Fig. 8
+// relocated-boundary sets and back-substitute the traction variables with the co-rotated stress
+// after each smoothing step. The band is smoothed by boxes, not by the paper's symmetric
+// Gauss-Seidel on the Schur complement (not built, see docs/grid-engine.md).
 //
 // Residuals: the quasi-linear one (rows of the current frozen rotations) and the true
 // non-linear one (rotations of the current displacement), both in the norm of residual.hpp.
 // Double precision only.
 #include <Eigen/Core>
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -27,11 +31,19 @@ namespace mgelastic::grid {
 
 class AndersonMixing;
 
+// BOX: box (Vanka) Gauss-Seidel over every interior cell. DISTRIBUTIVE: the paper's split,
+// box sweeps over the boundary band's cells (rows the linear level marks BAND), then the
+// distributive sweep with the generalized distribution (corotated_distributive_smoother.hpp)
+// over the interior, then the band again.
+enum class CorotatedSmoother { BOX, DISTRIBUTIVE };
+
 struct CorotatedOptions {
   int rotation_update_every = 5;  // V-cycles between rotation refreshes (k >= 1)
-  double block_weight = 1.0;      // relaxation weight of the box smoother
-  int sweeps = 2;                 // box sweeps before and after each coarse correction
-  int relocation_sweeps = 2;      // extra sweeps over Fig. 8 relocated-boundary blocks
+  CorotatedSmoother smoother = CorotatedSmoother::BOX;
+  double block_weight = 1.0;  // relaxation weight of the box smoother
+  int sweeps = 2;             // smoothing steps before and after each coarse correction
+  int band_sweeps = 1;        // DISTRIBUTIVE: band box sweeps before and after the interior one
+  int relocation_sweeps = 2;  // extra sweeps over Fig. 8 relocated-boundary blocks
   CorotatedStress stress = CorotatedStress::SYMMETRIZED;
   // Anderson history of solve()'s outer iteration (corotated_acceleration.hpp); 0 = plain
   // frozen-rotation (Picard) cycles.
@@ -43,6 +55,7 @@ struct CorotatedReport {
   std::vector<double> quasi_linear;  // residual of the frozen system the cycle worked on
   double seconds = 0;
   bool converged = false;
+  int load_increments = 1;  // solve_with_load_steps: increments of the accepted attempt
   int cycles() const { return static_cast<int>(nonlinear.size()) - 1; }
 };
 
@@ -69,6 +82,19 @@ class CorotatedMultigrid {
   // A fixed number of plain cycles (a backward-Euler step): from a warm start two plain
   // refreshes reduce the step's residual more than two mixed ones (docs/grid-engine.md).
   CorotatedReport run_cycles(int cycles) { return solve(0.0, cycles, false); }
+  // Quasistatic solve with load stepping (continuation, corotated_load_stepping.cpp): first as
+  // solve(); when an increment fails (non-linear residual above kIncrementGrowth times its
+  // start or not finite; or, for the last one, not converged in max_cycles), its start is
+  // restored and the increment halved. The load (finest right-hand side, Dirichlet values,
+  // boundary tractions) runs from that of the last call (zero at construction) to the current
+  // one; an accepted increment doubles the next. Increments before the last are solved to
+  // max(tolerance, 0.1) of their own start, the last as solve() (relative to the full load's
+  // initial residual). `nonlinear` holds the full-load residual first, then each cycle's
+  // residual for its increment's load. Throws Error when an increment of
+  // 1/kMaxLoadIncrements of the load diverges.
+  CorotatedReport solve_with_load_steps(double relative_tolerance, int max_cycles);
+  static constexpr int kMaxLoadIncrements = 64;
+  static constexpr double kIncrementGrowth = 100.0;
 
   int levels() const { return m_multigrid.levels(); }
   std::size_t unknowns() const { return m_multigrid.unknowns(); }
@@ -81,7 +107,19 @@ class CorotatedMultigrid {
  private:
   struct Blocks;
   struct CoarseFactor;
+  struct Interior;
   struct FreshRows;
+  // A quasistatic load: finest right-hand side, Dirichlet values (at m_dirichlet), traction scale.
+  struct Load {
+    std::array<std::vector<double>, Dim + 1> b;
+    std::vector<double> dirichlet;
+    double traction = 0;
+  };
+  Load current_load() const;
+  void apply_load(const Load& from, const Load& to, double s);
+  void set_traction_scale(double scale);
+  enum class Attempt { CONVERGED, STALLED, DIVERGED };
+  Attempt solve_increment(double initial, double target, int max_cycles, CorotatedReport& report);
   void build_level_system(int l);
   void build_level_system(int l, CorotatedRows rows);
   void refresh_rotations(FreshRows fresh);
@@ -90,16 +128,23 @@ class CorotatedMultigrid {
   double accelerated_cycle(AndersonMixing& anderson, double previous, double& quasi_linear);
   Eigen::VectorXd gather_unknowns() const;
   void scatter_unknowns(const Eigen::VectorXd& values);
-  void smooth(int l, bool forward, bool relocated_only);
+  enum class BlockSet { ALL, BAND, RELOCATED };
+  void box_sweep(int l, bool forward, BlockSet set);
+  void smooth(int l, bool forward);
   void correct(int l);
   void back_substitute(int l);
 
   Multigrid<Dim, double> m_multigrid;
   CorotatedOptions m_options;
-  BoundaryStress<Dim> m_sigma;
+  BoundaryStress<Dim> m_sigma;             // boundary tractions times the load scale
+  BoundaryStress<Dim> m_sigma_full;        // the problem's boundary tractions
+  std::vector<std::uint32_t> m_dirichlet;  // finest Dirichlet variables (global indices)
+  Load m_equilibrium;                      // load of the last accepted solve_with_load_steps
+  double m_traction_scale = 1.0;
   std::vector<std::vector<Matrix<Dim>>> m_rotations;
   std::vector<CorotatedRows> m_rows;
   std::vector<std::unique_ptr<Blocks>> m_blocks;
+  std::vector<std::unique_ptr<Interior>> m_interior;  // DISTRIBUTIVE only
   std::unique_ptr<CoarseFactor> m_coarse;
   // Rotations and finest rows of the displacement at the last non-linear residual of solve();
   // a due refresh reuses them instead of rebuilding the same rows.
