@@ -26,11 +26,12 @@ namespace {
 // The issue asks for a residual reduction <= 0.3 per V-cycle. Measured with the multicolour
 // cluster smoother (docs/tet-engine.md, Multigrid): the paper's V(1,1) (one sweep each side)
 // gives 0.59-0.62 on the stiff twisted bars, 0.48 on the bunny, 0.37 on the armadillo; with
-// symmetric sweeps (forward + backward each side) 0.40-0.42 on the bars, 0.27 on the bunny, 0.10
-// on the armadillo. Bounds are the measured rates plus a margin of ~0.04, so a regression shows;
-// 0.3 itself is asserted where it is reached (symmetric sweeps on bunny and armadillo).
+// symmetric sweeps (forward + backward each side, SSOR factor 1.2) 0.35-0.37 on the bars, 0.22
+// on the bunny, 0.05 on the armadillo. Bounds are the measured rates plus a margin of ~0.04, so a
+// regression shows; 0.3 itself is asserted where it is reached (symmetric sweeps on bunny and
+// armadillo).
 constexpr double kBarVCycleRate = 0.65;
-constexpr double kBarSymmetricRate = 0.46;
+constexpr double kBarSymmetricRate = 0.41;
 constexpr double kBunnyVCycleRate = 0.52;
 constexpr double kIssueRate = 0.3;
 constexpr double kBunnyPcgRate = 0.22;
@@ -275,7 +276,7 @@ double stiffness_to_mass(const geometry::TetMesh& mesh) {
 }
 
 // The issue's <= 0.3 per V-cycle on the armadillo (54 985 tets, 4 levels down to ~300 vertices):
-// reached with symmetric sweeps (measured 0.10); the paper's single sweeps give 0.37.
+// reached with symmetric sweeps (measured 0.05); the paper's single sweeps give 0.37.
 TEST(TetMultigrid, VCycleRateOnArmadillo) {
   const StepProblem problem = sagging_mesh("armadillo_13k.msh");
   if (problem.mesh.tet_count() == 0) GTEST_SKIP() << "MGELASTIC_DATA_DIR not set";
@@ -295,14 +296,13 @@ TEST(TetMultigrid, VCycleRateOnArmadillo) {
 
 // Mesh size on real meshes (measured, docs/tet-engine.md "Convergence"): the armadillo at 3.7k
 // tets (armadillo_4k), the same refined once (30k) and the independently meshed armadillo_13k
-// (55k); the bunny (19k) and the bunny refined once (155k). Symmetric sweeps:
-// 0.18 / 0.43 / 0.10 and 0.22 / 0.56; V(1,1): 0.43 / 0.65 / 0.33 and 0.42 / 0.67. What holds is
-// asserted: between the independently meshed sizes the finer one is not slower (+0.05), and the
-// symmetric rate stays <= 0.3 on them. The uniformly refined meshes are NOT within +0.05 (their
-// two-level rate with an exact coarse solve is as slow, so it is not the extra level): they are
-// bounded at the measured rates plus a margin so that a regression shows.
+// (55k); the bunny refined once (155k). Symmetric sweeps: 0.13 / 0.37 / 0.04 and 0.51; V(1,1):
+// 0.43 / 0.65 / 0.33 and 0.67. armadillo_4k and armadillo_13k differ in stiffness/mass (0.28 vs
+// 0.038), so "the finer is not slower" between them (asserted, +0.05) says little; the refined
+// meshes are stiffness-dominated (1.1-1.8) and slower, bounded at the measured rates plus a
+// margin so that a regression shows. The same-body size comparison is the tetgen test below.
 constexpr double kRefinedVCycleRate = 0.71;
-constexpr double kRefinedSymmetricRate = 0.60;
+constexpr double kRefinedSymmetricRate = 0.56;
 
 TEST(TetMultigrid, RateOnRealMeshesOfSeveralSizes) {
   if (std::getenv("MGELASTIC_DATA_DIR") == nullptr) GTEST_SKIP() << "MGELASTIC_DATA_DIR not set";
@@ -346,15 +346,15 @@ TEST(TetMultigrid, RateOnRealMeshesOfSeveralSizes) {
 // with -Y (its 10k scanned triangles kept unsplit; quality refinement of them alone gives 148k
 // tets), hence 18k / 29k / 68k and 33k / 46k / 76k tets. Same body, same E: the finer mesh is more
 // stiffness-dominated (stiffness_to_mass ~ 1 / l^2), so this is the honest size comparison.
-// Measured (docs/tet-engine.md, Convergence): armadillo V(1,1) 0.56 / 0.62 / 0.72, symmetric
-// 0.35 / 0.47 / 0.59; bunny V(1,1) 0.54 / 0.54 / 0.50, symmetric 0.33 / 0.32 / 0.28. The issue's
-// <= 0.3 with +0.05 across sizes is NOT met on the armadillo (nor <= 0.3 on the two coarser bunny
-// meshes): the slowest mode is a thin feature's tip (a claw) bending against the rest, too smooth
-// for the smoother and not representable on coarse cubes wider than the feature; it weighs more
-// as the step matrix gets stiffness-dominated. Asserted: the bunny's finest within +0.05 of its
-// coarsest, every rate below its measured value plus a margin so that a regression shows.
+// Measured (docs/tet-engine.md, Convergence): bunny V(1,1) 0.54 / 0.54 / 0.50, symmetric sweeps
+// 0.27 / 0.26 / 0.24: the issue's <= 0.3 with the finest within +0.05 of the coarsest holds and
+// is asserted. Armadillo V(1,1) 0.56 / 0.62 / 0.72, symmetric 0.29 / 0.43 / 0.55: NOT met; the
+// slowest mode is two thin claw tips moving against each other inside one coarse cube, too smooth
+// for the smoother and not representable by the coarse space; it weighs more as the step matrix
+// gets stiffness-dominated. Its rates (and the bunny's V(1,1)) are bounded at the measured value
+// plus a margin so that a regression shows.
 constexpr double kTetGenVCycleRate = 0.76;
-constexpr double kTetGenSymmetricRate = 0.64;
+constexpr double kTetGenSymmetricRate = 0.60;
 
 geometry::TriangleMesh surface_of(const std::filesystem::path& path) {
   if (path.extension() == ".obj") return geometry::read_surface_mesh(path);
@@ -411,7 +411,7 @@ TEST(TetMultigrid, RateOnTetGenMeshesOfSeveralSizes) {
   struct Model {
     std::string file;
     std::vector<std::string> switches;
-    bool size_independent;  // asserted finest <= coarsest + 0.05
+    bool meets_issue;  // symmetric <= 0.3 at every size, finest <= coarsest + 0.05 asserted
   };
   const std::vector<Model> models{
       {"armadillo_4k.node", {"pq1.5", "pq1.5a0.0012", "pq1.5a0.00016"}, false},
@@ -439,7 +439,8 @@ TEST(TetMultigrid, RateOnTetGenMeshesOfSeveralSizes) {
       EXPECT_LE(single.back(), kTetGenVCycleRate) << model.file << " -" << switches;
       EXPECT_LE(both.back(), kTetGenSymmetricRate) << model.file << " -" << switches;
     }
-    if (model.size_independent) {
+    if (model.meets_issue) {
+      EXPECT_LE(*std::max_element(both.begin(), both.end()), kIssueRate) << model.file;
       EXPECT_LE(single.back(), single.front() + kRateSpread) << model.file;
       EXPECT_LE(both.back(), both.front() + kRateSpread) << model.file;
     }
@@ -540,6 +541,7 @@ TEST(TetMultigridDiagnostics, DISABLED_Explore) {
   settings.pre_smoothing = settings.post_smoothing = static_cast<int>(env_or("MG_SWEEPS", 1));
   settings.symmetric_sweeps = env_or("MG_SYM", 0) != 0;
   settings.relaxation = env_or("MG_OMEGA", 1.0);
+  settings.symmetric_relaxation = env_or("MG_OMEGA", 1.2);
   settings.lexicographic = env_or("MG_LEX", 0) != 0;
   settings.smoother.strong_coupling = env_or("MG_STRONG", 0.3);
   settings.smoother.max_cluster_size = static_cast<int>(env_or("MG_CLUSTER", 4));
