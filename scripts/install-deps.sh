@@ -9,6 +9,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libsuitesparse-dev libhypre-dev
   python3 ccache
+  tetgen  # executable only (AGPL, never linked): TetMultigrid.RateOnTetGenMeshesOfSeveralSizes
   "$@"
 )
 missing=()

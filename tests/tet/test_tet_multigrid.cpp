@@ -5,10 +5,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
+#include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <random>
 
+#include "mgelastic/geometry/surface_mesh_readers.hpp"
+#include "mgelastic/geometry/tet_mesh_boundary.hpp"
 #include "mgelastic/geometry/tet_mesh_readers.hpp"
 #include "mgelastic/tet/corotated_solver.hpp"
 #include "mgelastic/tet/mesh_refinement.hpp"
@@ -21,11 +26,12 @@ namespace {
 // The issue asks for a residual reduction <= 0.3 per V-cycle. Measured with the multicolour
 // cluster smoother (docs/tet-engine.md, Multigrid): the paper's V(1,1) (one sweep each side)
 // gives 0.59-0.62 on the stiff twisted bars, 0.48 on the bunny, 0.37 on the armadillo; with
-// symmetric sweeps (forward + backward each side) 0.40-0.42 on the bars, 0.27 on the bunny, 0.10
-// on the armadillo. Bounds are the measured rates plus a margin of ~0.04, so a regression shows;
-// 0.3 itself is asserted where it is reached (symmetric sweeps on bunny and armadillo).
+// symmetric sweeps (forward + backward each side, SSOR factor 1.2) 0.35-0.37 on the bars, 0.22
+// on the bunny, 0.05 on the armadillo. Bounds are the measured rates plus a margin of ~0.04, so a
+// regression shows; 0.3 itself is asserted where it is reached (symmetric sweeps on bunny and
+// armadillo).
 constexpr double kBarVCycleRate = 0.65;
-constexpr double kBarSymmetricRate = 0.46;
+constexpr double kBarSymmetricRate = 0.41;
 constexpr double kBunnyVCycleRate = 0.52;
 constexpr double kIssueRate = 0.3;
 constexpr double kBunnyPcgRate = 0.22;
@@ -219,18 +225,12 @@ TEST(TetMultigrid, SolvesToToleranceAndPreconditionsCg) {
   EXPECT_LE((x - z).norm(), 1e-6 * z.norm());
 }
 
-// A real mesh sagging under gravity: lowest 10 % of its height fixed, E = 1e4 Pa x height (h^2 K~
-// dominates M at the element scale), three implicit Euler steps taken with the multigrid step
-// solver itself (tolerance 1e-6). Empty mesh when MGELASTIC_DATA_DIR is not set.
-StepProblem sagging_mesh(const std::string& file, int refinements = 0) {
+// A real mesh sagging under gravity: lowest 10 % of its height fixed, E = 1e4 Pa x height (how
+// much h^2 K~ dominates M depends on the model's units, see stiffness_to_mass), three implicit
+// Euler steps taken with MG-PCG (tolerance 1e-6; fewer cycles than plain V-cycles).
+StepProblem sagging_problem(geometry::TetMesh mesh) {
   StepProblem problem;
-  const char* dir = std::getenv("MGELASTIC_DATA_DIR");
-  if (dir == nullptr || std::string(dir).empty()) return problem;
-  const std::filesystem::path path = std::filesystem::path(dir) / file;
-  EXPECT_TRUE(std::filesystem::exists(path))
-      << "MGELASTIC_DATA_DIR is set but " << path << " is missing";
-  problem.mesh = geometry::read_tet_mesh(path);
-  for (int r = 0; r < refinements; ++r) problem.mesh = refine_uniform(problem.mesh);
+  problem.mesh = std::move(mesh);
   const double low = problem.mesh.vertices.col(1).minCoeff();
   const double extent = problem.mesh.vertices.col(1).maxCoeff() - low;
   std::vector<int> dirichlet;
@@ -243,7 +243,7 @@ StepProblem sagging_mesh(const std::string& file, int refinements = 0) {
   CorotatedSolverSettings settings;
   settings.time_step = kStep;
   settings.gravity = Eigen::Vector3d(0, -9.81, 0);
-  settings.linear_solver = LinearSolver::MULTIGRID;
+  settings.linear_solver = LinearSolver::MG_PCG;
   settings.pcg.tolerance = 1e-6;
   problem.solver = std::make_unique<CorotatedSolver>(
       problem.mesh,
@@ -253,8 +253,30 @@ StepProblem sagging_mesh(const std::string& file, int refinements = 0) {
   return problem;
 }
 
+StepProblem sagging_mesh(const std::string& file, int refinements = 0) {
+  const char* dir = std::getenv("MGELASTIC_DATA_DIR");
+  if (dir == nullptr || std::string(dir).empty()) return {};
+  const std::filesystem::path path = std::filesystem::path(dir) / file;
+  EXPECT_TRUE(std::filesystem::exists(path))
+      << "MGELASTIC_DATA_DIR is set but " << path << " is missing";
+  geometry::TetMesh mesh = geometry::read_tet_mesh(path);
+  for (int r = 0; r < refinements; ++r) mesh = refine_uniform(mesh);
+  return sagging_problem(std::move(mesh));
+}
+
+// Stiffness over mass at the element scale, dt^2 E / (rho l^2) with l the mean edge: the step
+// matrix is mass-dominated when it is small (every smoother converges fast there) and
+// stiffness-dominated when it is large (the multigrid's own rate). E = 1e4 x height makes it
+// scale like 1 / (model size) at a fixed element count, so meshes in different units are not
+// comparable by their rate alone.
+double stiffness_to_mass(const geometry::TetMesh& mesh) {
+  const double extent = mesh.vertices.col(1).maxCoeff() - mesh.vertices.col(1).minCoeff();
+  const double edge = mean_edge_length(mesh);
+  return kStep * kStep * 1e4 * extent / (1000.0 * edge * edge);
+}
+
 // The issue's <= 0.3 per V-cycle on the armadillo (54 985 tets, 4 levels down to ~300 vertices):
-// reached with symmetric sweeps (measured 0.10); the paper's single sweeps give 0.37.
+// reached with symmetric sweeps (measured 0.05); the paper's single sweeps give 0.37.
 TEST(TetMultigrid, VCycleRateOnArmadillo) {
   const StepProblem problem = sagging_mesh("armadillo_13k.msh");
   if (problem.mesh.tet_count() == 0) GTEST_SKIP() << "MGELASTIC_DATA_DIR not set";
@@ -274,14 +296,13 @@ TEST(TetMultigrid, VCycleRateOnArmadillo) {
 
 // Mesh size on real meshes (measured, docs/tet-engine.md "Convergence"): the armadillo at 3.7k
 // tets (armadillo_4k), the same refined once (30k) and the independently meshed armadillo_13k
-// (55k); the bunny (19k) and the bunny refined once (155k). Symmetric sweeps:
-// 0.18 / 0.43 / 0.10 and 0.22 / 0.56; V(1,1): 0.43 / 0.65 / 0.33 and 0.42 / 0.67. What holds is
-// asserted: between the independently meshed sizes the finer one is not slower (+0.05), and the
-// symmetric rate stays <= 0.3 on them. The uniformly refined meshes are NOT within +0.05 (their
-// two-level rate with an exact coarse solve is as slow, so it is not the extra level): they are
-// bounded at the measured rates plus a margin so that a regression shows.
+// (55k); the bunny refined once (155k). Symmetric sweeps: 0.13 / 0.37 / 0.04 and 0.51; V(1,1):
+// 0.43 / 0.65 / 0.33 and 0.67. armadillo_4k and armadillo_13k differ in stiffness/mass (0.28 vs
+// 0.038), so "the finer is not slower" between them (asserted, +0.05) says little; the refined
+// meshes are stiffness-dominated (1.1-1.8) and slower, bounded at the measured rates plus a
+// margin so that a regression shows. The same-body size comparison is the tetgen test below.
 constexpr double kRefinedVCycleRate = 0.71;
-constexpr double kRefinedSymmetricRate = 0.60;
+constexpr double kRefinedSymmetricRate = 0.56;
 
 TEST(TetMultigrid, RateOnRealMeshesOfSeveralSizes) {
   if (std::getenv("MGELASTIC_DATA_DIR") == nullptr) GTEST_SKIP() << "MGELASTIC_DATA_DIR not set";
@@ -299,7 +320,8 @@ TEST(TetMultigrid, RateOnRealMeshesOfSeveralSizes) {
     rates.single = vcycle_rate(mg, problem.fixed, 8);
     rates.both = vcycle_rate(mg_symmetric, problem.fixed, 8);
     std::cout << "[ rate ] " << file << " x" << (1 << (3 * refinements)) << ": "
-              << problem.mesh.tet_count() << " tets, " << mg.level_count() << " levels: V(1,1) "
+              << problem.mesh.tet_count() << " tets, stiffness/mass "
+              << stiffness_to_mass(problem.mesh) << ", " << mg.level_count() << " levels: V(1,1) "
               << rates.single << ", symmetric sweeps " << rates.both << "\n";
     return rates;
   };
@@ -315,6 +337,115 @@ TEST(TetMultigrid, RateOnRealMeshesOfSeveralSizes) {
     EXPECT_LE(refined.single, kRefinedVCycleRate) << file;
     EXPECT_LE(refined.both, kRefinedSymmetricRate) << file;
   }
+}
+
+// Independently meshed sizes (what the paper did: bunny, horse, dragon at 11k / 34k / 67k tets):
+// TetGen (the Debian `tetgen` executable; AGPL, so it is run, never linked) tetrahedralizes one
+// surface at three maximum tet volumes with radius-edge ratio <= 1.5. Surfaces: the boundary of
+// armadillo_4k (2 102 triangles; armadillo.obj's 86k triangles give >= 150k tets) and bunny_10k.obj
+// with -Y (its 10k scanned triangles kept unsplit; quality refinement of them alone gives 148k
+// tets), hence 18k / 29k / 68k and 33k / 46k / 76k tets. Same body, same E: the finer mesh is more
+// stiffness-dominated (stiffness_to_mass ~ 1 / l^2), so this is the honest size comparison.
+// Measured (docs/tet-engine.md, Convergence): bunny V(1,1) 0.54 / 0.54 / 0.50, symmetric sweeps
+// 0.27 / 0.26 / 0.24: the issue's <= 0.3 with the finest within +0.05 of the coarsest holds and
+// is asserted. Armadillo V(1,1) 0.56 / 0.62 / 0.72, symmetric 0.29 / 0.43 / 0.55: NOT met; the
+// slowest mode is two thin claw tips moving against each other inside one coarse cube, too smooth
+// for the smoother and not representable by the coarse space; it weighs more as the step matrix
+// gets stiffness-dominated. Its rates (and the bunny's V(1,1)) are bounded at the measured value
+// plus a margin so that a regression shows.
+constexpr double kTetGenVCycleRate = 0.76;
+constexpr double kTetGenSymmetricRate = 0.60;
+
+geometry::TriangleMesh surface_of(const std::filesystem::path& path) {
+  if (path.extension() == ".obj") return geometry::read_surface_mesh(path);
+  const geometry::TetMesh mesh = geometry::read_tet_mesh(path);
+  const geometry::TetMeshBoundary boundary = geometry::tet_mesh_boundary(mesh);
+  geometry::TriangleMesh surface;
+  surface.vertices.resize(static_cast<Eigen::Index>(boundary.mesh_vertex.size()), 3);
+  for (std::size_t i = 0; i < boundary.mesh_vertex.size(); ++i)
+    surface.vertices.row(static_cast<Eigen::Index>(i)) = mesh.vertices.row(boundary.mesh_vertex[i]);
+  surface.triangles = boundary.triangles;
+  return surface;
+}
+
+void write_off(const geometry::TriangleMesh& surface, const std::filesystem::path& path) {
+  std::ofstream out(path);
+  out << std::setprecision(17) << "OFF\n"
+      << surface.vertex_count() << " " << surface.triangle_count() << " 0\n";
+  for (Eigen::Index v = 0; v < surface.vertex_count(); ++v)
+    out << surface.vertices(v, 0) << " " << surface.vertices(v, 1) << " " << surface.vertices(v, 2)
+        << "\n";
+  for (Eigen::Index t = 0; t < surface.triangle_count(); ++t)
+    out << "3 " << surface.triangles(t, 0) << " " << surface.triangles(t, 1) << " "
+        << surface.triangles(t, 2) << "\n";
+  ASSERT_TRUE(out.good()) << "cannot write " << path;
+}
+
+// Runs `tetgen -<switches>Q surface.off`; empty mesh (and a test failure) when it fails.
+geometry::TetMesh tetgen_mesh(const std::filesystem::path& off, const std::string& switches) {
+  const std::string command =
+      "tetgen -" + switches + "Q " + off.string() + " > " + off.string() + ".log 2>&1";
+  const int status = std::system(command.c_str());
+  const std::filesystem::path node = off.parent_path() / (off.stem().string() + ".1.node");
+  if (status != 0 || !std::filesystem::exists(node)) {
+    ADD_FAILURE() << "'" << command << "' failed (status " << status
+                  << "); is tetgen installed? scripts/install-deps.sh installs it";
+    return {};
+  }
+  geometry::TetMesh mesh = geometry::read_tet_mesh(node);
+  std::filesystem::remove(node);
+  std::filesystem::remove(off.parent_path() / (off.stem().string() + ".1.ele"));
+  std::filesystem::remove(off.parent_path() / (off.stem().string() + ".1.face"));
+  std::filesystem::remove(off.parent_path() / (off.stem().string() + ".1.edge"));
+  return mesh;
+}
+
+TEST(TetMultigrid, RateOnTetGenMeshesOfSeveralSizes) {
+  const char* dir = std::getenv("MGELASTIC_DATA_DIR");
+  if (dir == nullptr || std::string(dir).empty()) GTEST_SKIP() << "MGELASTIC_DATA_DIR not set";
+  const std::filesystem::path work = std::filesystem::temp_directory_path() /
+                                     ("mgelastic_tetgen_" + std::to_string(std::random_device()()));
+  std::filesystem::create_directories(work);
+  TetMultigridSettings symmetric;
+  symmetric.symmetric_sweeps = true;
+  struct Model {
+    std::string file;
+    std::vector<std::string> switches;
+    bool meets_issue;  // symmetric <= 0.3 at every size, finest <= coarsest + 0.05 asserted
+  };
+  const std::vector<Model> models{
+      {"armadillo_4k.node", {"pq1.5", "pq1.5a0.0012", "pq1.5a0.00016"}, false},
+      {"bunny_10k.obj", {"pq1.5Y", "pq1.5Ya0.000015", "pq1.5Ya0.000006"}, true}};
+  for (const Model& model : models) {
+    const std::filesystem::path path = std::filesystem::path(dir) / model.file;
+    ASSERT_TRUE(std::filesystem::exists(path))
+        << "MGELASTIC_DATA_DIR is set but " << path << " is missing";
+    const std::filesystem::path off = work / (path.stem().string() + ".off");
+    write_off(surface_of(path), off);
+    std::vector<double> single, both;
+    for (const std::string& switches : model.switches) {
+      geometry::TetMesh mesh = tetgen_mesh(off, switches);
+      ASSERT_GT(mesh.tet_count(), 0) << model.file << " -" << switches;
+      const double ratio = stiffness_to_mass(mesh);
+      const StepProblem problem = sagging_problem(std::move(mesh));
+      const TetMultigrid mg = step_multigrid(problem),
+                         mg_symmetric = step_multigrid(problem, symmetric);
+      single.push_back(vcycle_rate(mg, problem.fixed, 8));
+      both.push_back(vcycle_rate(mg_symmetric, problem.fixed, 8));
+      std::cout << "[ rate ] " << model.file << " tetgen -" << switches << ": "
+                << problem.mesh.tet_count() << " tets, stiffness/mass " << ratio << ", "
+                << mg.level_count() << " levels: V(1,1) " << single.back() << ", symmetric sweeps "
+                << both.back() << "\n";
+      EXPECT_LE(single.back(), kTetGenVCycleRate) << model.file << " -" << switches;
+      EXPECT_LE(both.back(), kTetGenSymmetricRate) << model.file << " -" << switches;
+    }
+    if (model.meets_issue) {
+      EXPECT_LE(*std::max_element(both.begin(), both.end()), kIssueRate) << model.file;
+      EXPECT_LE(single.back(), single.front() + kRateSpread) << model.file;
+      EXPECT_LE(both.back(), both.front() + kRateSpread) << model.file;
+    }
+  }
+  std::filesystem::remove_all(work);
 }
 
 TEST(TetMultigrid, VCycleRateOnBunny) {
@@ -410,6 +541,7 @@ TEST(TetMultigridDiagnostics, DISABLED_Explore) {
   settings.pre_smoothing = settings.post_smoothing = static_cast<int>(env_or("MG_SWEEPS", 1));
   settings.symmetric_sweeps = env_or("MG_SYM", 0) != 0;
   settings.relaxation = env_or("MG_OMEGA", 1.0);
+  settings.symmetric_relaxation = env_or("MG_OMEGA", 1.2);
   settings.lexicographic = env_or("MG_LEX", 0) != 0;
   settings.smoother.strong_coupling = env_or("MG_STRONG", 0.3);
   settings.smoother.max_cluster_size = static_cast<int>(env_or("MG_CLUSTER", 4));
@@ -443,6 +575,12 @@ TEST(TetMultigridDiagnostics, DISABLED_Explore) {
               << " corrected " << trace[l].corrected << " post " << trace[l].post_smoothed << "\n";
   std::cout << "rate " << vcycle_rate(mg, problem.fixed, 1) << " pcg "
             << mg_pcg_rate(mg, problem.fixed, 1) << "\n";
+  // Cost of one V-cycle (process CPU time over 20 cycles, all threads; a loaded machine inflates
+  // wall time, CPU time less).
+  const std::clock_t start = std::clock();
+  for (int c = 0; c < 20; ++c) mg.cycle(b, x);
+  std::cout << "cpu ms per V-cycle "
+            << 1000.0 * static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC / 20.0 << "\n";
 }
 
 }  // namespace
@@ -456,6 +594,9 @@ namespace {
 TEST(TetMultigridDiagnostics, DISABLED_SlowMode) {
   StepProblem problem;
   problem.mesh = geometry::read_tet_mesh(std::getenv("MG_MESH"));
+  const int parent_vertices = problem.mesh.vertex_count();
+  for (int r = 0; r < static_cast<int>(env_or("MG_REFINE", 0)); ++r)
+    problem.mesh = refine_uniform(problem.mesh);
   const double low = problem.mesh.vertices.col(1).minCoeff();
   const double extent = problem.mesh.vertices.col(1).maxCoeff() - low;
   std::vector<int> dirichlet;
@@ -514,6 +655,30 @@ TEST(TetMultigridDiagnostics, DISABLED_SlowMode) {
   const double total = e.squaredNorm();
   std::cout << "height decile share:";
   for (double s : share) std::cout << " " << s / total;
+  // Distance above the Dirichlet plane in fine mean edges, surface vs interior, parent vertices
+  // vs refinement midpoints.
+  const double edge = mean_edge_length(problem.mesh);
+  const double plane = low + 0.1 * extent;
+  std::vector<double> band(6, 0.0);
+  std::vector<char> on_surface(n, 0);
+  const geometry::TetMeshBoundary boundary = geometry::tet_mesh_boundary(problem.mesh);
+  for (const int v : boundary.mesh_vertex) on_surface[v] = 1;
+  double surface_share = 0.0, parent_share = 0.0;
+  int surface_count = 0;
+  for (int v = 0; v < n; ++v) {
+    const double m = e.segment<3>(3 * v).squaredNorm();
+    const double d = (problem.mesh.vertices(v, 1) - plane) / edge;
+    band[d < 0 ? 0 : d < 1 ? 1 : d < 2 ? 2 : d < 4 ? 3 : d < 8 ? 4 : 5] += m;
+    surface_share += on_surface[v] != 0 ? m : 0.0;
+    surface_count += on_surface[v];
+    parent_share += v < parent_vertices ? m : 0.0;
+  }
+  std::cout << "\nshare by distance above the Dirichlet plane (fine edges) <0 / 0-1 / 1-2 / 2-4 / "
+               "4-8 / >8:";
+  for (double s : band) std::cout << " " << s / total;
+  std::cout << "\nsurface vertices " << surface_count << " of " << n << " hold "
+            << surface_share / total << "; parent vertices " << parent_vertices << " hold "
+            << parent_share / total;
   std::cout << "\nbbox min " << problem.mesh.vertices.colwise().minCoeff() << " max "
             << problem.mesh.vertices.colwise().maxCoeff() << "\n";
   std::sort(top.rbegin(), top.rend());

@@ -139,8 +139,10 @@ void TetMultigrid::finish_coarse_update() {
 }
 
 void TetMultigrid::smooth(int l, const Eigen::VectorXd& b, Eigen::VectorXd& x, bool forward) const {
+  const double w =
+      m_settings.symmetric_sweeps ? m_settings.symmetric_relaxation : m_settings.relaxation;
   if (!m_settings.lexicographic) {
-    m_levels[l].smoother.sweep(m_levels[l].matrix, b, x, forward, m_settings.relaxation);
+    m_levels[l].smoother.sweep(m_levels[l].matrix, b, x, forward, w);
     return;
   }
   // Block Gauss-Seidel: x_i <- D_i^{-1} (b_i - sum_{j != i} A_ij x_j), rows in order (serial).
@@ -153,7 +155,6 @@ void TetMultigrid::smooth(int l, const Eigen::VectorXd& b, Eigen::VectorXd& x, b
       const int j = a.block_columns()[k];
       if (j != i) r.noalias() -= a.block(k) * x.segment<3>(3 * j);
     }
-    const double w = m_settings.relaxation;
     if (w == 1.0)
       x.segment<3>(3 * i) = m_levels[l].inverse_diagonal[i] * r;
     else
