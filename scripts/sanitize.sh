@@ -9,7 +9,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 long_tests='^RealScans\.|ThreeDimensionalN64|QuasistaticTwistConvergesAtEveryStage'
 long_tests+='|FiveHundredStepTwist|WCycleRateIsResolutionIndependentIn3D'
-long_tests+='|CorotatedLoadStepping\.|CorotatedDistributiveSmoother\.RatesPerVCycle'
+long_tests+='|RateOnTetGenMeshesOfSeveralSizes|CorotatedLoadStepping\.|CorotatedDistributiveSmoother\.RatesPerVCycle'
 scripts/build.sh asan
 # halt_on_error: a UBSan report fails the test (the preset also compiles with
 # -fno-sanitize-recover); detect_leaks: leaks fail it too.
