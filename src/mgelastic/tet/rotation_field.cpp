@@ -1,6 +1,7 @@
 #include "mgelastic/tet/rotation_field.hpp"
 #include "mgelastic/tet/parallel.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -66,29 +67,45 @@ RotationStats RotationField::update(const Eigen::VectorXd& positions) {
 void RotationField::update_energy_minimization(const Eigen::VectorXd& positions,
                                                RotationStats& stats) {
   const int count = m_body->element_count();
+  const int batches = (count + kRotationLanes - 1) / kRotationLanes;
   long total_iterations = 0;
   int max_iterations = 0;
   int fallbacks = 0;
 #pragma omp parallel for schedule(static) if (count >= kMinParallelElements) reduction(+ : total_iterations, fallbacks) \
     reduction(max : max_iterations)
-  for (int e = 0; e < count; ++e) {
-    const TetCorners x = m_body->corners(e, positions);
-    const Eigen::Matrix<double, 3, 4> offsets = x.colwise() - 0.25 * x.rowwise().sum();
-    const Eigen::Matrix<double, 3, 4>& rest = m_weighted_rest_offsets[e];
-    const Eigen::Matrix3d b = offsets * rest.transpose();
-    const double t = std::abs(m_volumes[e]) / 20.0 * offsets.squaredNorm();
-    // The paper's q rotates deformed into rest (Q^T): warm-start from the conjugate of Q.
-    Eigen::Quaterniond q = m_quaternions[e].conjugate();
-    const RotationFit fit = minimize_rotation_energy(b, t, q, m_newton);
-    m_quaternions[e] = q.conjugate();
-    m_rotations[e] = m_quaternions[e].toRotationMatrix();
-    total_iterations += fit.iterations;
-    max_iterations = std::max(max_iterations, fit.iterations);
-    fallbacks += fit.fallback ? 1 : 0;
+  for (int batch = 0; batch < batches; ++batch) {
+    const int first = batch * kRotationLanes;
+    const int lanes = std::min(kRotationLanes, count - first);
+    RotationFitBatch fit;
+    // The last batch repeats its last element in the unused lanes (results dropped).
+    for (int l = 0; l < kRotationLanes; ++l)
+      load_fit(first + std::min(l, lanes - 1), positions, fit, l);
+    minimize_rotation_energy(fit, m_newton);
+    for (int l = 0; l < lanes; ++l) {
+      const int e = first + l;
+      // The paper's q rotates deformed into rest (Q^T): Q is its conjugate.
+      m_quaternions[e] = Eigen::Quaterniond(fit.q[0][l], -fit.q[1][l], -fit.q[2][l], -fit.q[3][l]);
+      m_rotations[e] = m_quaternions[e].toRotationMatrix();
+      total_iterations += fit.fits[l].iterations;
+      max_iterations = std::max(max_iterations, fit.fits[l].iterations);
+      fallbacks += fit.fits[l].fallback ? 1 : 0;
+    }
   }
   stats.max_newton_iterations = max_iterations;
   stats.mean_newton_iterations = count > 0 ? static_cast<double>(total_iterations) / count : 0.0;
   stats.fallbacks = fallbacks;
+}
+
+void RotationField::load_fit(int e, const Eigen::VectorXd& positions, RotationFitBatch& fit,
+                             int lane) const {
+  const TetCorners x = m_body->corners(e, positions);
+  const Eigen::Matrix<double, 3, 4> offsets = x.colwise() - 0.25 * x.rowwise().sum();
+  const Eigen::Matrix3d b = offsets * m_weighted_rest_offsets[e].transpose();
+  for (int k = 0; k < 9; ++k) fit.moment[k][lane] = b(k / 3, k % 3);
+  fit.deformed_moment[lane] = std::abs(m_volumes[e]) / 20.0 * offsets.squaredNorm();
+  // Warm start from the previous update, as the paper's q (the conjugate of Q).
+  const Eigen::Quaterniond& q = m_quaternions[e];
+  fit.q[0][lane] = q.w(), fit.q[1][lane] = -q.x(), fit.q[2][lane] = -q.y(), fit.q[3][lane] = -q.z();
 }
 
 void RotationField::update_polar(const Eigen::VectorXd& positions) {

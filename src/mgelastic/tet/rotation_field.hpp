@@ -47,6 +47,8 @@ class RotationField {
  private:
   void update_energy_minimization(const Eigen::VectorXd& positions, RotationStats& stats);
   void update_polar(const Eigen::VectorXd& positions);
+  // Lane `lane` of a fit batch from element e: B, T and the warm start.
+  void load_fit(int e, const Eigen::VectorXd& positions, RotationFitBatch& fit, int lane) const;
 
   const TetBody* m_body;
   RotationMethod m_method;
