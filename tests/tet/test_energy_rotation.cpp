@@ -170,6 +170,54 @@ TEST(EnergyRotation, FastPathEqualsTheReferenceNewton) {
   EXPECT_EQ(warm_fallbacks, 0);  // warm starts never need the eigen-decomposition
 }
 
+// The batched fit (four lanes, vector code) returns the scalar fit's rotation in every lane: warm
+// and cold starts, lanes mixed with degenerate ones (collapsed, inverted, flat, non-unit or
+// non-finite warm start) that the batch hands to the scalar path.
+TEST(EnergyRotation, BatchEqualsTheScalarFit) {
+  std::mt19937 rng(19);
+  TetCorners rest;
+  rest << 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1;
+  const Eigen::Matrix3d s = tet_second_moment(rest);
+  const std::vector<Eigen::Matrix3d> degenerate = {
+      Eigen::Matrix3d::Zero(), Eigen::Vector3d(1, 1, -1).asDiagonal(),
+      Eigen::Vector3d(1, 1, 0).asDiagonal(), 1e8 * Eigen::Matrix3d::Identity()};
+  int newton_lanes = 0;
+  for (int trial = 0; trial < 100; ++trial) {
+    RotationFitBatch batch;
+    std::array<Eigen::Matrix3d, kRotationLanes> moments;
+    std::array<double, kRotationLanes> traces;
+    std::array<Eigen::Quaterniond, kRotationLanes> starts;
+    for (int l = 0; l < kRotationLanes; ++l) {
+      EnergyCase c = random_case(rng, 0.4);
+      if ((trial + l) % 7 == 0) c = {test::random_rotation(rng) * degenerate[trial % 4], s};
+      moments[l] = c.b();
+      traces[l] = c.t();
+      Eigen::Quaterniond exact = Eigen::Quaterniond::Identity();
+      minimize_rotation_energy_reference(c.b(), c.t(), exact);
+      const Eigen::Quaterniond kick(Eigen::AngleAxisd(0.05, test::random_rotation(rng).col(0)));
+      starts[l] = trial % 3 == 0 ? Eigen::Quaterniond::Identity() : kick * exact;
+      if ((trial + 2 * l) % 11 == 0) starts[l].coeffs() *= 3.0;  // non-unit warm start
+      if ((trial + 3 * l) % 13 == 0) starts[l].coeffs().setConstant(NAN);
+      for (int k = 0; k < 9; ++k) batch.moment[k][l] = moments[l](k / 3, k % 3);
+      batch.deformed_moment[l] = traces[l];
+      batch.q[0][l] = starts[l].w(), batch.q[1][l] = starts[l].x();
+      batch.q[2][l] = starts[l].y(), batch.q[3][l] = starts[l].z();
+    }
+    minimize_rotation_energy(batch);
+    for (int l = 0; l < kRotationLanes; ++l) {
+      Eigen::Quaterniond scalar = starts[l];
+      const RotationFit fit = minimize_rotation_energy(moments[l], traces[l], scalar);
+      const Eigen::Quaterniond q(batch.q[0][l], batch.q[1][l], batch.q[2][l], batch.q[3][l]);
+      ASSERT_TRUE(q.coeffs().allFinite()) << trial << " " << l;
+      EXPECT_NEAR(q.norm(), 1.0, 1e-12) << trial << " " << l;
+      EXPECT_LE((wxyz(q) - wxyz(scalar)).norm(), 1e-12) << trial << " " << l;
+      EXPECT_EQ(batch.fits[l].fallback, fit.fallback) << trial << " " << l;
+      newton_lanes += fit.fallback ? 0 : 1;
+    }
+  }
+  EXPECT_GT(newton_lanes, 200);  // the cases are mostly regular (not eigen-decomposition answers)
+}
+
 // RotationField takes B and T from centroid offsets (B = D R^T, T = V/20 |D|^2); the reference
 // takes them from F and the rest moment S. Same rotations on a randomly deformed mesh.
 TEST(EnergyRotation, FieldUpdateEqualsPerElementReference) {
@@ -192,6 +240,39 @@ TEST(EnergyRotation, FieldUpdateEqualsPerElementReference) {
     Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
     minimize_rotation_energy_reference(b, (b * f.transpose()).trace(), q);
     ASSERT_LE(std::abs(field.quaternions()[e].angularDistance(q.conjugate())), 1e-9) << e;
+  }
+}
+
+// RotationField's POLAR runs the quaternion fit with B = F; it equals the SVD polar rotation of F
+// per element, on a smoothly bent and rotated mesh with a few inverted elements, cold (identity)
+// and warm (previous update) started.
+TEST(EnergyRotation, PolarFieldEqualsTheSvdPolar) {
+  const geometry::TetMesh mesh = test::box_mesh(Eigen::Vector3d(1.0, 0.5, 0.5), 0.125);
+  const TetBody body(mesh, ElementMaterials::uniform(mesh.tet_count(), kMaterial));
+  std::mt19937 rng(20);
+  std::uniform_real_distribution<double> jitter(-0.02, 0.02);
+  RotationField field(body, RotationMethod::POLAR);
+  for (int update = 0; update < 2; ++update) {
+    const Eigen::Matrix3d r = test::random_rotation(rng);
+    Eigen::VectorXd x(body.rest_positions().size());
+    for (int v = 0; v < body.vertex_count(); ++v) {
+      const Eigen::Vector3d p = body.rest_positions().segment<3>(3 * v);
+      x.segment<3>(3 * v) = r * Eigen::Vector3d(p[0], p[1] + 0.3 * p[0] * p[0], p[2]) +
+                            Eigen::Vector3d(jitter(rng), jitter(rng), jitter(rng));
+    }
+    // Swapping two corners of element 0 inverts it.
+    const Eigen::Vector3d corner = x.segment<3>(3 * body.tets()(0, 0));
+    x.segment<3>(3 * body.tets()(0, 0)) = x.segment<3>(3 * body.tets()(0, 1));
+    x.segment<3>(3 * body.tets()(0, 1)) = corner;
+    field.update(x);
+    int inverted = 0;
+    for (int e = 0; e < body.element_count(); ++e) {
+      const Eigen::Matrix3d f = deformation_gradient(body.corners(e, x), body.rest_edge_inverse(e));
+      inverted += f.determinant() < 0.0 ? 1 : 0;
+      const Eigen::Matrix3d svd = polar_rotation(f);
+      ASSERT_LE((field.rotation(e) - svd).norm(), 1e-9) << "element " << e << " update " << update;
+    }
+    EXPECT_GT(inverted, 0);
   }
 }
 

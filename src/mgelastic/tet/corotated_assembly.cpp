@@ -76,23 +76,27 @@ CorotatedAssembler::CorotatedAssembler(const TetBody& body)
 void CorotatedAssembler::assemble(const RotationField& rotations) {
   const int elements = m_body->element_count();
 #pragma omp parallel for schedule(static) if (elements >= kMinParallelElements)
-  for (int e = 0; e < elements; ++e)
-    m_rotated[e].noalias() = rotations.rotation(e) * m_gradients[e];
+  for (int e = 0; e < elements; ++e) {
+    m_rotated[e].topRows<3>().noalias() = rotations.rotation(e) * m_gradients[e];
+    m_rotated[e].row(3).setZero();
+  }
   const int count = m_stiffness.block_count();
 #pragma omp parallel if (count >= kMinParallelItems)
   {
 #pragma omp for schedule(static)
     for (int k = 0; k < count; ++k) {
       if (m_mirror[k] >= 0) continue;
-      Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+      // Columns of lambda V h_a h_b^T + mu V h_b h_a^T as whole 4-vectors (padded rows).
+      Eigen::Matrix<double, 4, 3> sum = Eigen::Matrix<double, 4, 3>::Zero();
       for (int s = m_source_offsets[k]; s < m_source_offsets[k + 1]; ++s) {
         const int e = m_sources[s] / 16, local = m_sources[s] % 16;
-        const Eigen::Vector3d ha = m_rotated[e].col(local / 4), hb = m_rotated[e].col(local % 4);
-        const Eigen::Vector2d& lame = m_lame_volume[e];
-        sum.noalias() += (lame[0] * ha) * hb.transpose() + (lame[1] * hb) * ha.transpose();
+        const Eigen::Vector4d ha = m_rotated[e].col(local / 4), hb = m_rotated[e].col(local % 4);
+        const Eigen::Vector4d u = m_lame_volume[e][0] * ha, v = m_lame_volume[e][1] * hb;
+        for (int j = 0; j < 3; ++j) sum.col(j) += u * hb[j] + v * ha[j];
       }
-      sum.diagonal().array() += m_shifts[k];
-      m_stiffness.block(k) = sum;
+      Eigen::Matrix3d& block = m_stiffness.block(k);
+      block = sum.topRows<3>();
+      block.diagonal().array() += m_shifts[k];
     }
     // After the barrier: a mirror block may belong to another thread's range.
 #pragma omp for schedule(static)

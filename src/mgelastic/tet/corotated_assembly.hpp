@@ -67,10 +67,11 @@ class CorotatedAssembler {
   std::vector<int> m_mirror;
   // Per block: sum of mu V (g_a . g_b) over its sources (the rotation-independent diagonal).
   std::vector<double> m_shifts;
-  // Per element: rest shape gradients (columns g_a), (lambda V, mu V), rotated gradients Q g_a.
+  // Per element: rest shape gradients (columns g_a), (lambda V, mu V), rotated gradients Q g_a
+  // (padded to 4 rows, last row 0, so the block sums run on whole vector registers).
   std::vector<Eigen::Matrix<double, 3, 4>> m_gradients;
   std::vector<Eigen::Vector2d> m_lame_volume;
-  std::vector<Eigen::Matrix<double, 3, 4>> m_rotated;
+  std::vector<Eigen::Matrix4d> m_rotated;
   // Vertex -> element corners 4 e + a (CSR), for gathering element forces.
   std::vector<int> m_corner_offsets;
   std::vector<int> m_corners;

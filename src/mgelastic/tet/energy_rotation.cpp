@@ -3,6 +3,8 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <cmath>
+#include <cstring>
+#include <limits>
 
 namespace mgelastic::tet {
 
@@ -239,6 +241,139 @@ RotationFit minimize_rotation_energy(const Eigen::Matrix3d& moment, double t, Ei
     return {iterations, false};
   }
   return lagrangian_newton_or_eigen(rotation_energy_matrix(moment), t, scale, warm, settings, q);
+}
+
+namespace {
+
+// Four doubles / four 64-bit masks (all bits set = true) as compiler vector types: arithmetic and
+// comparisons are lane-wise, `mask ? a : b` selects per lane (GCC and Clang), so the batch below
+// is vector code without intrinsics.
+using Lanes = double __attribute__((vector_size(8 * kRotationLanes)));
+using Mask = long long __attribute__((vector_size(8 * kRotationLanes)));
+
+Lanes load(const RotationLanes& a) {
+  Lanes v;
+  std::memcpy(&v, a.data(), sizeof v);
+  return v;
+}
+Lanes broadcast(double value) {
+  return Lanes{} + value;
+}
+Lanes square_root(Lanes v) {
+  for (int l = 0; l < kRotationLanes; ++l) v[l] = std::sqrt(v[l]);
+  return v;
+}
+bool any(Mask m) {
+  bool set = false;
+  for (int l = 0; l < kRotationLanes; ++l) set |= m[l] != 0;
+  return set;
+}
+
+struct BatchState {
+  Lanes w, x, y, z, tolerance2;
+  Mask active, failed;
+  Lanes iterations;
+};
+
+// One iteration of sphere_newton on all lanes, without branches: flags combine with & and |,
+// values are computed on every lane and selected (NaN fails every comparison, as in
+// sphere_newton). Lanes that are not active keep their iterate.
+void sphere_newton_lanes(const std::array<Lanes, 9>& b, const NewtonSettings& settings, bool at_cap,
+                         BatchState& st) {
+  const Lanes w = st.w, x = st.x, y = st.y, z = st.z;
+  // R(q) as Eigen's toRotationMatrix, then B' = B R(q).
+  const Lanes tx = 2.0 * x, ty = 2.0 * y, tz = 2.0 * z;
+  const Lanes twx = tx * w, twy = ty * w, twz = tz * w, txx = tx * x, txy = ty * x, txz = tz * x,
+              tyy = ty * y, tyz = tz * y, tzz = tz * z;
+  const Lanes r[9] = {1.0 - (tyy + tzz), txy - twz, txz + twy, txy + twz,        1.0 - (txx + tzz),
+                      tyz - twx,         txz - twy, tyz + twx, 1.0 - (txx + tyy)};
+  Lanes bp[9];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      bp[3 * i + j] = b[3 * i] * r[j] + b[3 * i + 1] * r[3 + j] + b[3 * i + 2] * r[6 + j];
+  const Lanes g0 = bp[5] - bp[7], g1 = bp[6] - bp[2], g2 = bp[1] - bp[3];
+  const Lanes h00 = 2.0 * (bp[4] + bp[8]), h11 = 2.0 * (bp[0] + bp[8]), h22 = 2.0 * (bp[0] + bp[4]);
+  const Lanes h01 = -(bp[1] + bp[3]), h02 = -(bp[2] + bp[6]), h12 = -(bp[5] + bp[7]);
+  const Lanes inv_d0 = 1.0 / h00;
+  const Lanes l10 = h01 * inv_d0, l20 = h02 * inv_d0;
+  const Lanes d1 = h11 - l10 * h01;
+  const Lanes inv_d1 = 1.0 / d1;
+  const Lanes l21 = (h12 - l20 * h01) * inv_d1;
+  const Lanes d2 = h22 - l20 * h02 - l21 * l21 * d1;
+  const Mask definite = (h00 > 0.0) & (d1 > 0.0) & (d2 > 0.0);
+  const Mask gradient_small = 16.0 * (g0 * g0 + g1 * g1 + g2 * g2) <= st.tolerance2;
+  const Mask cap = at_cap ? Mask{} - 1 : Mask{};
+  Mask steps = st.active & definite & ~gradient_small;
+  st.failed |= (st.active & ~definite) | (steps & cap);
+  steps &= ~cap;
+  const Lanes y1 = g1 - l10 * g0, y2 = g2 - l20 * g0 - l21 * y1;
+  Lanes s2 = y2 / d2;
+  Lanes s1 = y1 * inv_d1 - l21 * s2;
+  Lanes s0 = g0 * inv_d0 - l10 * s1 - l20 * s2;
+  const Lanes length2 = s0 * s0 + s1 * s1 + s2 * s2;
+  const Mask finite = length2 <= std::numeric_limits<double>::max();
+  st.failed |= steps & ~finite;
+  steps &= finite;
+  const Lanes shrink = length2 > settings.max_step * settings.max_step
+                           ? settings.max_step / square_root(length2)
+                           : broadcast(1.0);
+  s0 *= shrink, s1 *= shrink, s2 *= shrink;
+  // q + U s = q * (1, s), then back onto the sphere.
+  const Lanes nw = w - x * s0 - y * s1 - z * s2, nx = x + w * s0 + y * s2 - z * s1,
+              ny = y + w * s1 + z * s0 - x * s2, nz = z + w * s2 + x * s1 - y * s0;
+  const Lanes inverse = 1.0 / square_root(nw * nw + nx * nx + ny * ny + nz * nz);
+  st.w = steps ? nw * inverse : w;
+  st.x = steps ? nx * inverse : x;
+  st.y = steps ? ny * inverse : y;
+  st.z = steps ? nz * inverse : z;
+  st.iterations += steps ? broadcast(1.0) : broadcast(0.0);
+  st.active = steps & ~(length2 <= settings.converged_step * settings.converged_step);
+}
+
+// Lanes prepare_fit would accept as they are (finite warm start of norm > 0.5, normalized here;
+// finite positive scale) are active; the others go to the scalar function.
+void prepare_batch(const RotationFitBatch& batch, const std::array<Lanes, 9>& b,
+                   const NewtonSettings& settings, BatchState& st) {
+  Lanes b2{};
+  for (int k = 0; k < 9; ++k) b2 += b[k] * b[k];
+  const Lanes t = load(batch.deformed_moment);
+  const Lanes scale = 4.0 * ((t < 0.0 ? -t : t) + 2.0 * square_root(b2));
+  const Lanes w = load(batch.q[0]), x = load(batch.q[1]), y = load(batch.q[2]),
+              z = load(batch.q[3]);
+  const Lanes norm = square_root(w * w + x * x + y * y + z * z);
+  const double huge = std::numeric_limits<double>::max();
+  const Mask regular = (norm > 0.5) & (norm <= huge) & (scale > 1e-300) & (scale <= huge);
+  st.w = w / norm, st.x = x / norm, st.y = y / norm, st.z = z / norm;
+  st.tolerance2 = settings.tolerance * settings.tolerance * scale * scale;
+  st.active = regular;
+  st.failed = ~regular;
+  st.iterations = broadcast(0.0);
+}
+
+}  // namespace
+
+void minimize_rotation_energy(RotationFitBatch& batch, const NewtonSettings& settings) {
+  std::array<Lanes, 9> b;
+  for (int k = 0; k < 9; ++k) b[k] = load(batch.moment[k]);
+  BatchState st;
+  prepare_batch(batch, b, settings, st);
+  for (int iteration = 0; any(st.active); ++iteration)
+    sphere_newton_lanes(b, settings, iteration >= settings.max_iterations, st);
+  for (int l = 0; l < kRotationLanes; ++l) {
+    Eigen::Quaterniond q(batch.q[0][l], batch.q[1][l], batch.q[2][l], batch.q[3][l]);
+    const Eigen::Vector4d fast(st.w[l], st.x[l], st.y[l], st.z[l]);
+    if (st.failed[l] == 0 && fast.allFinite()) {
+      // The sign nearest the warm start, as the scalar path.
+      const bool flip = fast.dot(to_vector(q)) < 0.0;
+      q = to_quaternion(flip ? Eigen::Vector4d(-fast) : fast);
+      batch.fits[l] = {static_cast<int>(st.iterations[l]), false};
+    } else {
+      Eigen::Matrix3d moment;
+      for (int k = 0; k < 9; ++k) moment(k / 3, k % 3) = batch.moment[k][l];
+      batch.fits[l] = minimize_rotation_energy(moment, batch.deformed_moment[l], q, settings);
+    }
+    batch.q[0][l] = q.w(), batch.q[1][l] = q.x(), batch.q[2][l] = q.y(), batch.q[3][l] = q.z();
+  }
 }
 
 RotationFit minimize_rotation_energy_reference(const Eigen::Matrix3d& moment, double t,

@@ -28,6 +28,7 @@
 // An element collapsed to a point (N = 0, T = 0) keeps its previous rotation.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 
 namespace mgelastic::tet {
 
@@ -60,6 +61,25 @@ double rotation_energy(const Eigen::Vector4d& q, const Eigen::Matrix4d& n, doubl
 // on exit, always unit length and finite when the inputs are finite.
 RotationFit minimize_rotation_energy(const Eigen::Matrix3d& moment, double deformed_moment,
                                      Eigen::Quaterniond& q, const NewtonSettings& settings = {});
+
+// Batches: kRotationLanes fits at once, one element per lane, structure of arrays (`moment[3 i +
+// j][lane]` = B(i, j), `q[c][lane]` = component c of (w, x, y, z)). The sphere Newton of the fast
+// path runs branch-free over the lanes, so the four dependency chains (divisions, square roots)
+// overlap and the lane loops compile to vector code; each lane stops when the scalar path would.
+// A lane whose inputs are not regular (non-finite or tiny warm start, collapsed element) or where
+// the fast path fails is finished by minimize_rotation_energy itself: results equal the scalar
+// function's to round-off (test EnergyRotation.BatchEqualsTheScalarFit).
+inline constexpr int kRotationLanes = 4;
+using RotationLanes = std::array<double, kRotationLanes>;
+
+struct RotationFitBatch {
+  alignas(32) std::array<RotationLanes, 9> moment{};
+  alignas(32) RotationLanes deformed_moment{};
+  alignas(32) std::array<RotationLanes, 4> q{};  // warm start on entry, result on exit
+  std::array<RotationFit, kRotationLanes> fits{};
+};
+
+void minimize_rotation_energy(RotationFitBatch& batch, const NewtonSettings& settings = {});
 
 // The same minimizer by the (q, lambda) Newton of Eqs. 5-8 alone (no sphere fast path; the
 // eigen-decomposition when it fails): the reference the fast path is tested against.

@@ -204,14 +204,27 @@ void GalerkinStream::update(const BlockRowMatrix<double>& fine,
       const std::ptrdiff_t pairs = static_cast<std::ptrdiff_t>(stream.destinations.size());
       const std::int32_t* prefetch_end =
           destination + (prefetch ? std::max<std::ptrdiff_t>(0, pairs - kPrefetchPairs) : 0);
+      // The fetched block is copied to a local (registers) and E addressed through a hoisted
+      // pointer: the compiler cannot prove that the stores into E miss K, and otherwise reloads
+      // both on every pair.
+      static_assert(sizeof(Eigen::Matrix3d) == 9 * sizeof(double), "blocks are contiguous");
+      double* const values = stream.control.empty() ? nullptr : coarse.block(0).data();
       int k = stream.first_block - 1;
       for (const std::uint8_t c : stream.control) {
         k += c >> 7;  // fetch-next bit
-        const Eigen::Matrix3d& source = fine.block(k);
+        // The block's 9 values as two 4-vectors and a scalar (whole AVX registers).
+        const double* block = fine.block(k).data();
+        const Eigen::Vector4d head(block), middle(block + 4);
+        const double last = block[8];
         for (int n = c & 0x7f; n > 0; --n, ++weight, ++destination) {
           if (destination < prefetch_end)
-            __builtin_prefetch(coarse.block(destination[kPrefetchPairs]).data(), 1);
-          coarse.block(*destination).noalias() += *weight * source;
+            __builtin_prefetch(
+                values + 9 * static_cast<std::ptrdiff_t>(destination[kPrefetchPairs]), 1);
+          double* const target = values + 9 * static_cast<std::ptrdiff_t>(*destination);
+          const double w = *weight;
+          Eigen::Map<Eigen::Vector4d>(target) += w * head;
+          Eigen::Map<Eigen::Vector4d>(target + 4) += w * middle;
+          target[8] += w * last;
         }
       }
     }

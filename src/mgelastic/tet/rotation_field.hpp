@@ -3,7 +3,10 @@
 // the current positions by one of three methods (the paper's Sec. 3 and its Sec. 5 comparisons):
 //   ENERGY_MINIMIZATION  Newton on the unit quaternion with Lagrange multiplier (energy_rotation),
 //                        warm-started from the previous update;
-//   POLAR                polar decomposition of F (polar_rotation);
+//   POLAR                polar decomposition of F = R U: R maximizes tr(R^T F), which is the
+//                        energy-minimization fit with B = F, so it runs the same warm-started
+//                        quaternion Newton (polar_rotation's SVD is the reference, equal to
+//                        round-off: test EnergyRotation.PolarFieldEqualsTheSvdPolar);
 //   POLAR_SMOOTHED       POLAR followed by one volume-weighted quaternion average over the
 //                        1-ring of elements (rotation_smoothing).
 // Elements are independent, so the update is one parallel loop over elements.
@@ -46,7 +49,12 @@ class RotationField {
 
  private:
   void update_energy_minimization(const Eigen::VectorXd& positions, RotationStats& stats);
-  void update_polar(const Eigen::VectorXd& positions);
+  void update_polar(const Eigen::VectorXd& positions, RotationStats& stats);
+  // Batched fits of all elements (energy_rotation), warm-started from quaternions(): load(e,
+  // batch, lane) fills B and T of element e; out[e] receives Q_e (and rotation(e) when out is
+  // quaternions()).
+  template <class Load>
+  RotationStats fit_in_batches(const Load& load, std::vector<Eigen::Quaterniond>& out);
 
   const TetBody* m_body;
   RotationMethod m_method;
