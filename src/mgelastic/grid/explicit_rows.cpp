@@ -25,13 +25,37 @@ void merge_duplicates(ExplicitRow& row) {
 template <int Dim>
 RowBuilder<Dim>::RowBuilder(const Lattice<Dim>& lattice, const std::vector<CellType>& cells,
                             double mu, BoundaryStress<Dim> sigma, double inertia,
-                            const std::vector<double>* cell_weight)
+                            const std::vector<double>* cell_weight, double dirichlet_zero_depth)
     : m_lattice(lattice),
       m_cells(cells),
       m_mu(mu),
       m_sigma(std::move(sigma)),
       m_inertia(inertia),
-      m_cell_weight(cell_weight) {}
+      m_cell_weight(cell_weight),
+      m_dirichlet_zero_depth(dirichlet_zero_depth) {}
+
+template <int Dim>
+void RowBuilder<Dim>::fold_tangential_dirichlet(int axis, std::ptrdiff_t k,
+                                                ExplicitRow& row) const {
+  const double half = 0.5 * m_lattice.h;
+  if (m_dirichlet_zero_depth <= 0.0 || m_dirichlet_zero_depth >= half) return;
+  const double ratio = (half - m_dirichlet_zero_depth) / (half + m_dirichlet_zero_depth);
+  const std::ptrdiff_t si = m_lattice.stride(axis);
+  auto dirichlet = [&](std::ptrdiff_t cell) { return m_cells[cell] == CellType::DIRICHLET; };
+  double self = 0.0;
+  for (int j = 0; j < Dim; ++j) {
+    if (j == axis) continue;
+    for (const std::ptrdiff_t nb : {k + m_lattice.stride(j), k - m_lattice.stride(j)}) {
+      if (!dirichlet(nb) || !dirichlet(nb - si)) continue;
+      for (RowTerm& t : row.terms) {
+        if (t.variable != u(axis, nb)) continue;
+        self -= ratio * t.coefficient;
+        t.coefficient = 0.0;
+      }
+    }
+  }
+  if (self != 0.0) row.terms.push_back({u(axis, k), self});
+}
 
 template <int Dim>
 std::uint32_t RowBuilder<Dim>::u(int axis, std::ptrdiff_t k) const {
@@ -108,6 +132,8 @@ ExplicitRow RowBuilder<Dim>::momentum(int axis, std::ptrdiff_t k) const {
   }
   if (m_inertia != 0.0)
     row.terms.push_back({u(axis, k), -m_inertia * 0.5 * (weight(k) + weight(k - si))});
+  merge_duplicates(row);
+  fold_tangential_dirichlet(axis, k, row);
   merge_duplicates(row);
   return row;
 }

@@ -172,7 +172,8 @@ void Multigrid<Dim, Scalar>::build_levels(const ElasticityProblem<Dim>& problem,
     m_levels.push_back(build_level<Dim, Scalar>(
         lattices[l], cells[l], problem.material,
         finest ? problem.boundary_stress : BoundaryStress<Dim>{},
-        coarsest ? nullptr : &cells[l + 1], problem.inertia, m_options.band_layers, weights[l]));
+        coarsest ? nullptr : &cells[l + 1], problem.inertia, m_options.band_layers, weights[l],
+        l > 0 && m_options.consistent_dirichlet_depth ? 0.5 * problem.lattice.h : 0.0));
   }
 }
 
