@@ -11,13 +11,14 @@
 // except on coarse levels (dirichlet_zero_depth > 0, homogeneous corrections): there a
 // tangential Dirichlet neighbor across a Dirichlet wall sits H/2 inside the Dirichlet region,
 // where the finest level's sits h/2 inside; it is replaced by the linear extrapolation of the
-// row's own variable to zero at the finest level's depth d: u_ghost = -(H/2 - d)/(H/2 + d) u_self,
-// so every level clamps the tangential correction at the same place.
-// The inertia term of a dynamics step (Sec. 8), -c u_i, is part of every momentum row.
-// Optional fill weights w (fill_weights.hpp) scale the stresses of coarse cells: P_ii(cell) by
-// w(cell), P_ij(edge) by the mean w of its four cells, and the inertia of a face by the mean w of
-// its two cells. Pressure rows stay unweighted, so a momentum row's pressure coefficient is w
-// times the pressure row's u coefficient (the Schur complement G W D^-1 G^T stays symmetric).
+// row's own variable to zero at the finest level's depth d (only across faces of
+// `aligned_dirichlet_faces`, where the coarse wall is the finest one): u_ghost = -(H/2 - d)/(H/2 +
+// d) u_self, so every level clamps the tangential correction at the same place. The inertia term of
+// a dynamics step (Sec. 8), -c u_i, is part of every momentum row. Optional fill weights w
+// (fill_weights.hpp) scale the stresses of coarse cells: P_ii(cell) by w(cell), P_ij(edge) by the
+// mean w of its four cells, and the inertia of a face by the mean w of its two cells. Pressure rows
+// stay unweighted, so a momentum row's pressure coefficient is w times the pressure row's u
+// coefficient (the Schur complement G W D^-1 G^T stays symmetric).
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -42,7 +43,8 @@ class RowBuilder {
  public:
   RowBuilder(const Lattice<Dim>& lattice, const std::vector<CellType>& cells, double mu,
              BoundaryStress<Dim> sigma, double inertia = 0.0,
-             const std::vector<double>* cell_weight = nullptr, double dirichlet_zero_depth = 0.0);
+             const std::vector<double>* cell_weight = nullptr, double dirichlet_zero_depth = 0.0,
+             const std::vector<std::uint8_t>* aligned_dirichlet_faces = nullptr);
   ExplicitRow momentum(int axis, std::ptrdiff_t k) const;
   ExplicitRow pressure(std::ptrdiff_t k) const;
 
@@ -64,6 +66,7 @@ class RowBuilder {
   double m_inertia;
   const std::vector<double>* m_cell_weight;
   double m_dirichlet_zero_depth;
+  const std::vector<std::uint8_t>* m_aligned_dirichlet_faces;
 };
 
 }  // namespace mgelastic::grid
