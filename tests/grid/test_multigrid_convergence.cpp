@@ -60,7 +60,8 @@ INSTANTIATE_TEST_SUITE_P(PoissonRatios, MixedBoxRate,
 
 // Each added level keeps the V(1,1) rate (+0.05): 64^2 to 512^2 build 2 to 5 levels. Before
 // coarse levels clamped tangential corrections at the finest level's Dirichlet depth, each level
-// beyond the third cost ~0.11 (0.21, 0.23, 0.35, 0.45; docs/grid-engine.md).
+// beyond the third cost ~0.11 (256^2 with 2 / 3 / 4 levels: 0.21 / 0.23 / 0.35;
+// docs/grid-engine.md, decision 8a).
 TEST(MultigridSolve, MixedBoxRateIsDepthIndependentIn2D) {
   const RateAndLevels shallow = mixed_box_rate<2>(64);
   EXPECT_EQ(shallow.levels, 2);
