@@ -29,6 +29,42 @@ std::vector<CellType> coarsen_cells(const Lattice<Dim>& fine, const std::vector<
 }
 
 template <int Dim>
+std::vector<std::uint8_t> finest_aligned_dirichlet_faces(const Lattice<Dim>& finest,
+                                                         const std::vector<CellType>& finest_cells,
+                                                         const Lattice<Dim>& coarse,
+                                                         const std::vector<CellType>& coarse_cells,
+                                                         int factor) {
+  std::vector<std::uint8_t> faces(coarse.size(), 0);
+  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(coarse.size()); ++k) {
+    const IVec<Dim> cs = coarse.coords(k);
+    if (!coarse.is_real(cs) || coarse_cells[k] != CellType::DIRICHLET) continue;
+    for (int a = 0; a < Dim; ++a) {
+      for (int side = 0; side < 2; ++side) {
+        // The finest cells of the layer: every descendant along the other axes, one coordinate
+        // along a.
+        IVec<Dim> lo, hi;
+        for (int b = 0; b < Dim; ++b) {
+          lo[b] = (cs[b] - 1) * factor + 1;
+          hi[b] = cs[b] * factor;
+        }
+        if (side == 0) hi[a] = lo[a];
+        if (side == 1) lo[a] = hi[a];
+        bool all = true;
+        IVec<Dim> s = lo;
+        while (all) {
+          all = finest.is_real(s) && finest_cells[finest.index(s)] == CellType::DIRICHLET;
+          int b = 0;
+          for (; b < Dim && ++s[b] > hi[b]; ++b) s[b] = lo[b];
+          if (b == Dim) break;
+        }
+        if (all) faces[k] |= static_cast<std::uint8_t>(1u << (2 * a + side));
+      }
+    }
+  }
+  return faces;
+}
+
+template <int Dim>
 int repair_coarse_cells(const Lattice<Dim>& lattice, std::vector<CellType>& cells) {
   // Occupancy of the real cells (no ghost ring), x fastest.
   const geometry::CellCoords<Dim> dims = lattice.cells;
@@ -53,6 +89,16 @@ int repair_coarse_cells(const Lattice<Dim>& lattice, std::vector<CellType>& cell
   return added;
 }
 
+template std::vector<std::uint8_t> finest_aligned_dirichlet_faces<2>(const Lattice<2>&,
+                                                                     const std::vector<CellType>&,
+                                                                     const Lattice<2>&,
+                                                                     const std::vector<CellType>&,
+                                                                     int);
+template std::vector<std::uint8_t> finest_aligned_dirichlet_faces<3>(const Lattice<3>&,
+                                                                     const std::vector<CellType>&,
+                                                                     const Lattice<3>&,
+                                                                     const std::vector<CellType>&,
+                                                                     int);
 template int repair_coarse_cells<2>(const Lattice<2>&, std::vector<CellType>&);
 template int repair_coarse_cells<3>(const Lattice<3>&, std::vector<CellType>&);
 template Lattice<2> coarsen<2>(const Lattice<2>&);

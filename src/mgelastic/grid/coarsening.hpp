@@ -9,6 +9,7 @@
 // neither. A coarsest level with a hinge is singular, and the correction of a coarse level is
 // unbounded along it. repair_coarse_cells() makes coarse typings free of them, with the rule
 // voxelize() applies to the finest.
+#include <cstdint>
 #include <vector>
 
 #include "mgelastic/grid/lattice.hpp"
@@ -25,6 +26,17 @@ std::vector<CellType> coarsen_cells(const Lattice<Dim>& fine, const std::vector<
 // non-exterior 2^d block and the full blocks of each face-connected piece form one chain of
 // blocks sharing 2^(d-1) x 1 halves (geometry::thicken_to_full_blocks, connect_full_blocks).
 // The ghost ring stays exterior. Returns the number of cells added.
+// Faces of a coarse level's Dirichlet cells that lie on the finest level's Dirichlet wall: bit
+// 2 a + side (side 0 = lower, 1 = upper face along e_a) is set when every finest cell of the
+// coarse cell's layer at that face is Dirichlet (`factor` = coarse h / finest h). Only there may
+// a coarse level clamp at the finest level's depth (Level::dirichlet_zero_depth).
+template <int Dim>
+std::vector<std::uint8_t> finest_aligned_dirichlet_faces(const Lattice<Dim>& finest,
+                                                         const std::vector<CellType>& finest_cells,
+                                                         const Lattice<Dim>& coarse,
+                                                         const std::vector<CellType>& coarse_cells,
+                                                         int factor);
+
 template <int Dim>
 int repair_coarse_cells(const Lattice<Dim>& lattice, std::vector<CellType>& cells);
 

@@ -25,13 +25,46 @@ void merge_duplicates(ExplicitRow& row) {
 template <int Dim>
 RowBuilder<Dim>::RowBuilder(const Lattice<Dim>& lattice, const std::vector<CellType>& cells,
                             double mu, BoundaryStress<Dim> sigma, double inertia,
-                            const std::vector<double>* cell_weight)
+                            const std::vector<double>* cell_weight, double dirichlet_zero_depth,
+                            const std::vector<std::uint8_t>* aligned_dirichlet_faces)
     : m_lattice(lattice),
       m_cells(cells),
       m_mu(mu),
       m_sigma(std::move(sigma)),
       m_inertia(inertia),
-      m_cell_weight(cell_weight) {}
+      m_cell_weight(cell_weight),
+      m_dirichlet_zero_depth(dirichlet_zero_depth),
+      m_aligned_dirichlet_faces(aligned_dirichlet_faces) {}
+
+template <int Dim>
+void RowBuilder<Dim>::fold_tangential_dirichlet(int axis, std::ptrdiff_t k,
+                                                ExplicitRow& row) const {
+  const double half = 0.5 * m_lattice.h;
+  if (m_dirichlet_zero_depth <= 0.0 || m_dirichlet_zero_depth >= half) return;
+  if (!m_aligned_dirichlet_faces || m_aligned_dirichlet_faces->empty()) return;
+  const auto& aligned = *m_aligned_dirichlet_faces;
+  const double ratio = (half - m_dirichlet_zero_depth) / (half + m_dirichlet_zero_depth);
+  const std::ptrdiff_t si = m_lattice.stride(axis);
+  // The cell's face toward the row (bit 2 j + side) lies on the finest Dirichlet wall.
+  auto clamped = [&](std::ptrdiff_t cell, int j, int side) {
+    return m_cells[cell] == CellType::DIRICHLET && ((aligned[cell] >> (2 * j + side)) & 1u);
+  };
+  double self = 0.0;
+  for (int j = 0; j < Dim; ++j) {
+    if (j == axis) continue;
+    for (const int side : {0, 1}) {
+      // side 0: the neighbor above the row along e_j, seen through its lower face.
+      const std::ptrdiff_t nb = side == 0 ? k + m_lattice.stride(j) : k - m_lattice.stride(j);
+      if (!clamped(nb, j, side) || !clamped(nb - si, j, side)) continue;
+      for (RowTerm& t : row.terms) {
+        if (t.variable != u(axis, nb)) continue;
+        self -= ratio * t.coefficient;
+        t.coefficient = 0.0;
+      }
+    }
+  }
+  if (self != 0.0) row.terms.push_back({u(axis, k), self});
+}
 
 template <int Dim>
 std::uint32_t RowBuilder<Dim>::u(int axis, std::ptrdiff_t k) const {
@@ -108,6 +141,8 @@ ExplicitRow RowBuilder<Dim>::momentum(int axis, std::ptrdiff_t k) const {
   }
   if (m_inertia != 0.0)
     row.terms.push_back({u(axis, k), -m_inertia * 0.5 * (weight(k) + weight(k - si))});
+  merge_duplicates(row);
+  fold_tangential_dirichlet(axis, k, row);
   merge_duplicates(row);
   return row;
 }

@@ -7,12 +7,18 @@
 // traction value, moved to `constant`. A boundary gradient F_ii in a pressure row is eliminated
 // with P_ii = 2 mu F_ii - mu p = sigma, i.e. mu F_ii -> (sigma + mu p) / 2, which adds mu/2 to
 // the pressure diagonal (`pressure_extra`) and sigma/2 to `constant`.
-// Variables are global indices (field * lattice.size() + k); Dirichlet variables stay as terms.
-// The inertia term of a dynamics step (Sec. 8), -c u_i, is part of every momentum row.
-// Optional fill weights w (fill_weights.hpp) scale the stresses of coarse cells: P_ii(cell) by
-// w(cell), P_ij(edge) by the mean w of its four cells, and the inertia of a face by the mean w of
-// its two cells. Pressure rows stay unweighted, so a momentum row's pressure coefficient is w
-// times the pressure row's u coefficient (the Schur complement G W D^-1 G^T stays symmetric).
+// Variables are global indices (field * lattice.size() + k); Dirichlet variables stay as terms,
+// except on coarse levels (dirichlet_zero_depth > 0, homogeneous corrections): there a
+// tangential Dirichlet neighbor across a Dirichlet wall sits H/2 inside the Dirichlet region,
+// where the finest level's sits h/2 inside; it is replaced by the linear extrapolation of the
+// row's own variable to zero at the finest level's depth d (only across faces of
+// `aligned_dirichlet_faces`, where the coarse wall is the finest one): u_ghost = -(H/2 - d)/(H/2 +
+// d) u_self, so every level clamps the tangential correction at the same place. The inertia term of
+// a dynamics step (Sec. 8), -c u_i, is part of every momentum row. Optional fill weights w
+// (fill_weights.hpp) scale the stresses of coarse cells: P_ii(cell) by w(cell), P_ij(edge) by the
+// mean w of its four cells, and the inertia of a face by the mean w of its two cells. Pressure rows
+// stay unweighted, so a momentum row's pressure coefficient is w times the pressure row's u
+// coefficient (the Schur complement G W D^-1 G^T stays symmetric).
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -37,7 +43,8 @@ class RowBuilder {
  public:
   RowBuilder(const Lattice<Dim>& lattice, const std::vector<CellType>& cells, double mu,
              BoundaryStress<Dim> sigma, double inertia = 0.0,
-             const std::vector<double>* cell_weight = nullptr);
+             const std::vector<double>* cell_weight = nullptr, double dirichlet_zero_depth = 0.0,
+             const std::vector<std::uint8_t>* aligned_dirichlet_faces = nullptr);
   ExplicitRow momentum(int axis, std::ptrdiff_t k) const;
   ExplicitRow pressure(std::ptrdiff_t k) const;
 
@@ -50,6 +57,7 @@ class RowBuilder {
   std::uint32_t p(std::ptrdiff_t k) const;
   void add_normal_stress(int i, std::ptrdiff_t cell, double weight, ExplicitRow& row) const;
   void add_shear_stress(int i, int j, std::ptrdiff_t edge, double weight, ExplicitRow& row) const;
+  void fold_tangential_dirichlet(int axis, std::ptrdiff_t k, ExplicitRow& row) const;
 
   const Lattice<Dim>& m_lattice;
   const std::vector<CellType>& m_cells;
@@ -57,6 +65,8 @@ class RowBuilder {
   BoundaryStress<Dim> m_sigma;
   double m_inertia;
   const std::vector<double>* m_cell_weight;
+  double m_dirichlet_zero_depth;
+  const std::vector<std::uint8_t>* m_aligned_dirichlet_faces;
 };
 
 }  // namespace mgelastic::grid

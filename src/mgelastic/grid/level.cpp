@@ -566,8 +566,12 @@ template <int Dim, typename Scalar>
 Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType> cells,
                                const Material& material, const BoundaryStress<Dim>& sigma,
                                const std::vector<CellType>* coarse_cells, double inertia,
-                               int band_layers, std::vector<double> cell_weight) {
+                               int band_layers, std::vector<double> cell_weight,
+                               double dirichlet_zero_depth,
+                               std::vector<std::uint8_t> aligned_dirichlet_faces) {
   Level<Dim, Scalar> level;
+  level.dirichlet_zero_depth = dirichlet_zero_depth;
+  level.aligned_dirichlet_faces = std::move(aligned_dirichlet_faces);
   level.cell_weight = std::move(cell_weight);
   level.lattice = lattice;
   level.cells = std::move(cells);
@@ -591,7 +595,8 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
   std::vector<std::uint8_t> pre(Dim * n, 0), post(Dim * n, 0);
   classify_relaxation(level, coarse_cells, pre, post, band_layers);
   const RowBuilder<Dim> builder(level.lattice, level.cells, material.mu(), sigma, inertia,
-                                level.cell_weight.empty() ? nullptr : &level.cell_weight);
+                                level.cell_weight.empty() ? nullptr : &level.cell_weight,
+                                level.dirichlet_zero_depth, &level.aligned_dirichlet_faces);
   build_band_rows(level, builder, pre, post);
   build_band_blocks(level);
   build_band_kernel(level);
@@ -613,12 +618,13 @@ void set_dirichlet_values(Level<Dim, Scalar>& level,
   }
 }
 
-#define MGELASTIC_INSTANTIATE(D, S)                                                        \
-  template struct Level<D, S>;                                                             \
-  template Level<D, S> build_level<D, S>(                                                  \
-      const Lattice<D>&, std::vector<CellType>, const Material&, const BoundaryStress<D>&, \
-      const std::vector<CellType>*, double, int, std::vector<double>);                     \
-  template void set_dirichlet_values<D, S>(Level<D, S>&,                                   \
+#define MGELASTIC_INSTANTIATE(D, S)                                                               \
+  template struct Level<D, S>;                                                                    \
+  template Level<D, S> build_level<D, S>(const Lattice<D>&, std::vector<CellType>,                \
+                                         const Material&, const BoundaryStress<D>&,               \
+                                         const std::vector<CellType>*, double, int,               \
+                                         std::vector<double>, double, std::vector<std::uint8_t>); \
+  template void set_dirichlet_values<D, S>(Level<D, S>&,                                          \
                                            const std::function<Vec<D>(const Vec<D>&)>&);
 MGELASTIC_INSTANTIATE(2, float)
 MGELASTIC_INSTANTIATE(2, double)

@@ -87,6 +87,12 @@ struct Level {
   // Fill weights of the cells (fill_weights.hpp); empty = every body cell full (weight 1).
   // Rows that touch a partly filled cell are band rows (explicit, weighted).
   std::vector<double> cell_weight;
+  // Coarse levels: depth inside the Dirichlet region where the finest level's tangential
+  // Dirichlet variables sit (h_finest / 2); 0 on the finest level (explicit_rows.hpp).
+  double dirichlet_zero_depth = 0.0;
+  // Per cell: faces of Dirichlet cells on the finest level's Dirichlet wall (bits of
+  // finest_aligned_dirichlet_faces, coarsening.hpp); only these clamp at that depth.
+  std::vector<std::uint8_t> aligned_dirichlet_faces;
   std::array<std::vector<Scalar>, Dim + 1> x, b, r;
   std::array<std::vector<VarKind>, Dim + 1> kind;
   std::array<std::vector<Relaxation>, Dim + 1> relaxation;
@@ -156,7 +162,9 @@ template <int Dim, typename Scalar>
 Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType> cells,
                                const Material& material, const BoundaryStress<Dim>& sigma,
                                const std::vector<CellType>* coarse_cells, double inertia = 0.0,
-                               int band_layers = 0, std::vector<double> cell_weight = {});
+                               int band_layers = 0, std::vector<double> cell_weight = {},
+                               double dirichlet_zero_depth = 0.0,
+                               std::vector<std::uint8_t> aligned_dirichlet_faces = {});
 
 // Writes prescribed displacements into every Dirichlet variable of the level.
 template <int Dim, typename Scalar>

@@ -169,10 +169,16 @@ void Multigrid<Dim, Scalar>::build_levels(const ElasticityProblem<Dim>& problem,
   for (std::size_t l = 0; l < lattices.size(); ++l) {
     const bool finest = l == 0 && !mixed;
     const bool coarsest = l + 1 == lattices.size();
+    // Coarse levels clamp tangential corrections where the finest level does (decision 8a).
+    const bool clamp = l > 0 && m_options.consistent_dirichlet_depth;
     m_levels.push_back(build_level<Dim, Scalar>(
         lattices[l], cells[l], problem.material,
         finest ? problem.boundary_stress : BoundaryStress<Dim>{},
-        coarsest ? nullptr : &cells[l + 1], problem.inertia, m_options.band_layers, weights[l]));
+        coarsest ? nullptr : &cells[l + 1], problem.inertia, m_options.band_layers, weights[l],
+        clamp ? 0.5 * problem.lattice.h : 0.0,
+        clamp ? finest_aligned_dirichlet_faces(problem.lattice, problem.cells, lattices[l],
+                                               cells[l], 1 << l)
+              : std::vector<std::uint8_t>{}));
   }
 }
 

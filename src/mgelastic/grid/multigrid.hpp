@@ -43,6 +43,10 @@ struct MultigridOptions {
   // Coarse cells' stresses scaled by their fill weights (fill_weights.hpp), so that thin parts
   // keep their stiffness on coarse levels. false = the paper's unweighted coarse operator.
   bool coarse_fill_weights = true;
+  // Coarse levels clamp tangential corrections at the finest level's Dirichlet depth (h / 2
+  // inside the Dirichlet region) instead of their own (H / 2), in their operator and in the
+  // prolongation; false = the paper's rediscretization, whose clamp recedes with depth.
+  bool consistent_dirichlet_depth = true;
   int max_levels = 0;  // 0 = no limit
 };
 

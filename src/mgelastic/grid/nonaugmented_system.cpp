@@ -34,7 +34,8 @@ NonAugmentedSystem<Dim> assemble_nonaugmented(const Level<Dim, Scalar>& level,
   const auto np = static_cast<Eigen::Index>(system.p_variables.size());
   const double mu = level.mu, lambda = level.lambda;
   const RowBuilder<Dim> builder(level.lattice, level.cells, mu, sigma, level.inertia,
-                                level.cell_weight.empty() ? nullptr : &level.cell_weight);
+                                level.cell_weight.empty() ? nullptr : &level.cell_weight,
+                                level.dirichlet_zero_depth, &level.aligned_dirichlet_faces);
   const auto n = level.size();
   Triplets a, g;
   system.u_constant.setZero(nu);

@@ -118,14 +118,15 @@ struct Sample {
 };
 
 // Linear interpolation along one axis. Along a cell-centered axis a Dirichlet coarse variable
-// lies inside the Dirichlet region, half a coarse cell past the wall where the correction
-// vanishes, so it is replaced by the odd reflection of its partner (value 0 on the wall).
+// lies inside the Dirichlet region, half a coarse cell past the wall, so the partner is instead
+// extrapolated to zero at `depth` (in coarse cells) past the wall: the depth where the finest
+// level clamps (Level::dirichlet_zero_depth; 0 = on the wall, the odd reflection).
 Sample combine(const Sample& main, double w_main, const Sample& other, double w_other,
-               bool cell_centered) {
+               bool cell_centered, double depth) {
   if (other.state == Sample::INACTIVE) return main;
   if (main.state == Sample::INACTIVE) return other;
   if (cell_centered && other.state == Sample::DIRICHLET && main.state == Sample::ACTIVE)
-    return {Sample::ACTIVE, (w_main - w_other) * main.value};
+    return {Sample::ACTIVE, (0.5 - w_other + depth) / (0.5 + depth) * main.value};
   const auto state = std::max(main.state, other.state);
   return {cell_centered ? main.state : state, w_main * main.value + w_other * other.value};
 }
@@ -144,6 +145,21 @@ Sample coarse_sample(const Level<Dim, Scalar>& coarse, int field, const IVec<Dim
   }
 }
 
+// Whether the coarse u_field variable at s (a Dirichlet sample beyond the interpolated point
+// along `axis`, above it when `above`) sits behind a face of the finest level's Dirichlet wall.
+template <int Dim, typename Scalar>
+bool on_finest_wall(const Level<Dim, Scalar>& coarse, int field, const IVec<Dim>& s, int axis,
+                    bool above) {
+  if (coarse.aligned_dirichlet_faces.empty()) return false;
+  const std::ptrdiff_t k = coarse.lattice.index(s);
+  const unsigned bit = 2u * static_cast<unsigned>(axis) + (above ? 0u : 1u);
+  for (const std::ptrdiff_t cell : {k, k - coarse.lattice.stride(field)})
+    if (coarse.cells[cell] != CellType::DIRICHLET ||
+        !((coarse.aligned_dirichlet_faces[cell] >> bit) & 1u))
+      return false;
+  return true;
+}
+
 // Tensor-product interpolation, one axis at a time from the last to the first.
 template <int Dim, typename Scalar>
 Sample interpolate(const Level<Dim, Scalar>& coarse, int field, const std::array<Taps, Dim>& taps,
@@ -155,7 +171,10 @@ Sample interpolate(const Level<Dim, Scalar>& coarse, int field, const std::array
   if (t.size() == 1) return first;
   s[axis] = t[1].coordinate;
   const Sample second = interpolate<Dim, Scalar>(coarse, field, taps, s, axis - 1);
-  return combine(first, t[0].weight, second, t[1].weight, axis != field);
+  const bool clamped = second.state == Sample::DIRICHLET && axis != field &&
+                       on_finest_wall(coarse, field, s, axis, t[1].coordinate > t[0].coordinate);
+  return combine(first, t[0].weight, second, t[1].weight, axis != field,
+                 clamped ? coarse.dirichlet_zero_depth / coarse.lattice.h : 0.0);
 }
 
 // Coarse rows read by a fine storage row: the taps along axes 1..Dim-1 combined in the order
