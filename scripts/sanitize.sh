@@ -9,6 +9,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 long_tests='^RealScans\.|ThreeDimensionalN64|QuasistaticTwistConvergesAtEveryStage'
 long_tests+='|FiveHundredStepTwist|WCycleRateIsResolutionIndependentIn3D'
+long_tests+='|MixedBoxRateIsDepthIndependentIn2D|RecedingCoarseClampSlowsDeepHierarchies|MixedBoxRateIsResolutionIndependentIn3D'
 long_tests+='|RateOnTetGenMeshesOfSeveralSizes|CorotatedLoadStepping\.|CorotatedDistributiveSmoother\.RatesPerVCycle'
 scripts/build.sh asan
 # halt_on_error: a UBSan report fails the test (the preset also compiles with
