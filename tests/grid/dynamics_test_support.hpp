@@ -28,6 +28,22 @@ inline ElasticityProblem<3> bar(int nx, int n, double h, int fixed, const Materi
   return problem;
 }
 
+// A bar along x of n x n/4 x n/4 cells, length 1, E = 1, Dirichlet cells at x = 0 and, unless
+// `cantilever`, at x = 1 (the co-rotation tests' bar).
+inline ElasticityProblem<3> end_clamped_bar(int n, double nu, bool cantilever) {
+  ElasticityProblem<3> problem;
+  problem.lattice = Lattice<3>(IVec<3>(n, n / 4, n / 4), 1.0 / n);
+  problem.material = Material{1.0, nu};
+  problem.cells.assign(problem.lattice.size(), CellType::EXTERIOR);
+  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(problem.lattice.size()); ++k) {
+    const IVec<3> s = problem.lattice.coords(k);
+    if (!problem.lattice.is_real(s)) continue;
+    const bool end = s[0] == 1 || (!cantilever && s[0] == n);
+    problem.cells[k] = end ? CellType::DIRICHLET : CellType::INTERIOR;
+  }
+  return problem;
+}
+
 // The cantilever's first-mode-like velocity profile v_y = speed ((x - x0) / length)^2.
 inline std::function<Vec<3>(const Vec<3>&)> bending_velocity(double x0, double length,
                                                              double speed) {

@@ -18,32 +18,18 @@
 namespace mgelastic::grid {
 namespace {
 
-// A bar along x of n x n/4 x n/4 cells, length 1, Dirichlet cells at x = 0 and, unless
-// `cantilever`, at x = 1.
-ElasticityProblem<3> bar(int n, double nu, bool cantilever) {
-  ElasticityProblem<3> problem;
-  problem.lattice = Lattice<3>(IVec<3>(n, n / 4, n / 4), 1.0 / n);
-  problem.material = Material{1.0, nu};
-  problem.cells.assign(problem.lattice.size(), CellType::EXTERIOR);
-  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(problem.lattice.size()); ++k) {
-    const IVec<3> s = problem.lattice.coords(k);
-    if (!problem.lattice.is_real(s)) continue;
-    const bool end = s[0] == 1 || (!cantilever && s[0] == n);
-    problem.cells[k] = end ? CellType::DIRICHLET : CellType::INTERIOR;
-  }
-  return problem;
-}
+using test::end_clamped_bar;
 
 // The bent cantilever of test_corotated_multigrid.cpp (tip deflection ~0.18 of the length).
 ElasticityProblem<3> bent_cantilever(double nu) {
-  ElasticityProblem<3> problem = bar(24, nu, true);
+  ElasticityProblem<3> problem = end_clamped_bar(24, nu, true);
   problem.body_force = [](const Vec<3>&) { return Vec<3>(0, -0.01, 0); };
   return problem;
 }
 
 // Both ends Dirichlet, the end at x = 1 turned by 90 degrees about the bar's axis.
 ElasticityProblem<3> twisted_bar(double nu) {
-  ElasticityProblem<3> problem = bar(24, nu, false);
+  ElasticityProblem<3> problem = end_clamped_bar(24, nu, false);
   const Vec<3> axis_point(0.5, 0.125, 0.125);
   const Matrix<3> turn = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).matrix();
   problem.dirichlet_displacement = [=](const Vec<3>& x) -> Vec<3> {
@@ -70,7 +56,7 @@ double mean_rate(const std::vector<double>& residuals) {
 // its row-wise recurrence), with inertia and at Dirichlet neighbours (restricted q steps).
 TEST(CorotatedDistributiveSmoother, EqualsTheLinearDistributiveSweepAtIdentityRotations) {
   for (const double inertia : {0.0, 40.0}) {
-    const ElasticityProblem<3> problem = bar(32, 0.45, true);
+    const ElasticityProblem<3> problem = end_clamped_bar(32, 0.45, true);
     Level<3, double> linear = build_level<3, double>(problem.lattice, problem.cells,
                                                      problem.material, {}, nullptr, inertia);
     for (int f = 0; f < 4; ++f) {

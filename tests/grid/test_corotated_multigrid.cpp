@@ -19,21 +19,7 @@ namespace {
 using Field = std::function<Vec<3>(const Vec<3>&)>;
 using test::corotated_energy;
 
-// A bar along x of n x n/4 x n/4 cells, length 1, with Dirichlet cells at x = 0 and, unless
-// `cantilever`, at x = 1.
-ElasticityProblem<3> bar(int n, double nu, bool cantilever) {
-  ElasticityProblem<3> problem;
-  problem.lattice = Lattice<3>(IVec<3>(n, n / 4, n / 4), 1.0 / n);
-  problem.material = Material{1.0, nu};
-  problem.cells.assign(problem.lattice.size(), CellType::EXTERIOR);
-  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(problem.lattice.size()); ++k) {
-    const IVec<3> s = problem.lattice.coords(k);
-    if (!problem.lattice.is_real(s)) continue;
-    const bool end = s[0] == 1 || (!cantilever && s[0] == n);
-    problem.cells[k] = end ? CellType::DIRICHLET : CellType::INTERIOR;
-  }
-  return problem;
-}
+using test::end_clamped_bar;
 
 // Largest |u - expected| over the interior and Dirichlet faces of the finest level.
 double max_face_error(const Level<3, double>& level, const Field& expected) {
@@ -62,7 +48,7 @@ double mean_rate(const std::vector<double>& residuals) {
 }
 
 TEST(CorotatedMultigrid, BarWithEndsRotatedByNinetyDegreesReachesTheRotatedRestShape) {
-  ElasticityProblem<3> problem = bar(16, 0.3, false);
+  ElasticityProblem<3> problem = end_clamped_bar(16, 0.3, false);
   const Vec<3> center(0.5, 0.125, 0.125);
   const Matrix<3> rotation = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).matrix();
   const Field rigid = [&](const Vec<3>& x) -> Vec<3> {
@@ -131,7 +117,7 @@ TEST(CorotatedMultigrid, UniformShearIsReproducedExactlyInBothModels) {
 }
 
 TEST(CorotatedMultigrid, SmallDeformationsAgreeWithTheLinearModel) {
-  ElasticityProblem<3> problem = bar(16, 0.4, true);
+  ElasticityProblem<3> problem = end_clamped_bar(16, 0.4, true);
   problem.body_force = [](const Vec<3>&) { return Vec<3>(0, -1e-6, 0); };
   CorotatedMultigrid<3> corotated(problem);
   corotated.solve(1e-10, 60);
@@ -150,7 +136,7 @@ TEST(CorotatedMultigrid, SmallDeformationsAgreeWithTheLinearModel) {
 }
 
 ElasticityProblem<3> bent_cantilever() {
-  ElasticityProblem<3> problem = bar(24, 0.475, true);
+  ElasticityProblem<3> problem = end_clamped_bar(24, 0.475, true);
   problem.body_force = [](const Vec<3>&) { return Vec<3>(0, -0.01, 0); };
   return problem;
 }
@@ -223,7 +209,7 @@ TEST(CorotatedMultigrid, FrozenRotationIterationContractsAboutHalfPerRefreshWith
 // The non-linear residual between refreshes is evaluated stress by stress without stored rows;
 // it must be the residual of the stored rows (same rotations, same x).
 TEST(CorotatedOperator, MatrixFreeResidualEqualsTheStoredRows) {
-  const ElasticityProblem<3> problem = bar(16, 0.45, true);
+  const ElasticityProblem<3> problem = end_clamped_bar(16, 0.45, true);
   const BoundaryStress<3> traction = [](int i, int j, const Vec<3>& x) {
     return 0.01 * (i + 1) * (j + 2) * x[0];
   };
@@ -252,7 +238,7 @@ TEST(CorotatedOperator, MatrixFreeResidualEqualsTheStoredRows) {
 }
 
 TEST(CorotatedOperator, RowsAndResidualDoNotDependOnTheThreadCount) {
-  const ElasticityProblem<3> problem = bar(16, 0.45, true);
+  const ElasticityProblem<3> problem = end_clamped_bar(16, 0.45, true);
   Level<3, double> level =
       build_level<3, double>(problem.lattice, problem.cells, problem.material, {}, nullptr);
   for (std::size_t k = 0; k < level.size(); ++k)
@@ -274,7 +260,7 @@ TEST(CorotatedOperator, RowsAndResidualDoNotDependOnTheThreadCount) {
 }
 
 TEST(CorotatedMultigrid, InvertedCellsNeverGiveNaN) {
-  ElasticityProblem<3> problem = bar(16, 0.45, false);
+  ElasticityProblem<3> problem = end_clamped_bar(16, 0.45, false);
   // Both ends pushed through each other: F_xx = -0.5 along the bar (every cell inverted).
   problem.dirichlet_displacement = [](const Vec<3>& x) -> Vec<3> {
     return Vec<3>(-1.5 * (x[0] - 0.5), 0, 0);

@@ -218,12 +218,9 @@ TEST(EnergyRotation, BatchEqualsTheScalarFit) {
   EXPECT_GT(newton_lanes, 200);  // the cases are mostly regular (not eigen-decomposition answers)
 }
 
-// RotationField takes B and T from centroid offsets (B = D R^T, T = V/20 |D|^2); the reference
-// takes them from F and the rest moment S. Same rotations on a randomly deformed mesh.
-TEST(EnergyRotation, FieldUpdateEqualsPerElementReference) {
-  const geometry::TetMesh mesh = test::box_mesh(Eigen::Vector3d(1.0, 0.5, 0.5), 0.125);
-  const TetBody body(mesh, ElementMaterials::uniform(mesh.tet_count(), kMaterial));
-  std::mt19937 rng(18);
+// Positions of `body` bent (y += 0.3 x^2), rotated by a random rotation and jittered by up to
+// 0.02 per coordinate.
+Eigen::VectorXd bent_rotated_jittered(const TetBody& body, std::mt19937& rng) {
   std::uniform_real_distribution<double> jitter(-0.02, 0.02);
   const Eigen::Matrix3d r = test::random_rotation(rng);
   Eigen::VectorXd x(body.rest_positions().size());
@@ -232,6 +229,16 @@ TEST(EnergyRotation, FieldUpdateEqualsPerElementReference) {
     x.segment<3>(3 * v) = r * Eigen::Vector3d(p[0], p[1] + 0.3 * p[0] * p[0], p[2]) +
                           Eigen::Vector3d(jitter(rng), jitter(rng), jitter(rng));
   }
+  return x;
+}
+
+// RotationField takes B and T from centroid offsets (B = D R^T, T = V/20 |D|^2); the reference
+// takes them from F and the rest moment S. Same rotations on a randomly deformed mesh.
+TEST(EnergyRotation, FieldUpdateEqualsPerElementReference) {
+  const geometry::TetMesh mesh = test::box_mesh(Eigen::Vector3d(1.0, 0.5, 0.5), 0.125);
+  const TetBody body(mesh, ElementMaterials::uniform(mesh.tet_count(), kMaterial));
+  std::mt19937 rng(18);
+  const Eigen::VectorXd x = bent_rotated_jittered(body, rng);
   RotationField field(body, RotationMethod::ENERGY_MINIMIZATION);
   field.update(x);
   for (int e = 0; e < body.element_count(); ++e) {
@@ -250,16 +257,9 @@ TEST(EnergyRotation, PolarFieldEqualsTheSvdPolar) {
   const geometry::TetMesh mesh = test::box_mesh(Eigen::Vector3d(1.0, 0.5, 0.5), 0.125);
   const TetBody body(mesh, ElementMaterials::uniform(mesh.tet_count(), kMaterial));
   std::mt19937 rng(20);
-  std::uniform_real_distribution<double> jitter(-0.02, 0.02);
   RotationField field(body, RotationMethod::POLAR);
   for (int update = 0; update < 2; ++update) {
-    const Eigen::Matrix3d r = test::random_rotation(rng);
-    Eigen::VectorXd x(body.rest_positions().size());
-    for (int v = 0; v < body.vertex_count(); ++v) {
-      const Eigen::Vector3d p = body.rest_positions().segment<3>(3 * v);
-      x.segment<3>(3 * v) = r * Eigen::Vector3d(p[0], p[1] + 0.3 * p[0] * p[0], p[2]) +
-                            Eigen::Vector3d(jitter(rng), jitter(rng), jitter(rng));
-    }
+    Eigen::VectorXd x = bent_rotated_jittered(body, rng);
     // Swapping two corners of element 0 inverts it.
     const Eigen::Vector3d corner = x.segment<3>(3 * body.tets()(0, 0));
     x.segment<3>(3 * body.tets()(0, 0)) = x.segment<3>(3 * body.tets()(0, 1));
