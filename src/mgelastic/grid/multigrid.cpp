@@ -312,7 +312,7 @@ void Multigrid<Dim, Scalar>::correct(int l) {
   m_phases.boundary_smoothing += timer.seconds();
   observe(l, CyclePhase::RELOCATION_BEFORE_RESTRICTION);
   timer.restart();
-  compute_residual(m_levels[l]);
+  update_residual(m_levels[l]);
   m_phases.residual += timer.seconds();
   timer.restart();
   restrict_residual(m_levels[l], m_levels[l + 1]);

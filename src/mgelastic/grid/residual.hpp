@@ -12,6 +12,10 @@
 
 namespace mgelastic::grid {
 
+// Fills level.r (the V-cycle's restriction reads it; no norm).
+template <int Dim, typename Scalar>
+void update_residual(Level<Dim, Scalar>& level);
+
 // Fills level.r and returns the residual norm defined above.
 template <int Dim, typename Scalar>
 double compute_residual(Level<Dim, Scalar>& level);
