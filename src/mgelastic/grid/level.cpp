@@ -8,6 +8,7 @@
 #include <cstdlib>
 
 #include "mgelastic/grid/explicit_rows.hpp"
+#include "mgelastic/grid/huge_pages.hpp"
 
 namespace mgelastic::grid {
 namespace {
@@ -581,11 +582,11 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(lattice.size());
   const Classifier<Dim> classifier{level.lattice, level.cells};
   for (int f = 0; f <= Dim; ++f) {
-    level.x[f].assign(n, Scalar(0));
-    level.b[f].assign(n, Scalar(0));
-    level.r[f].assign(n, Scalar(0));
-    level.kind[f].assign(n, VarKind::INACTIVE);
-    level.relaxation[f].assign(n, Relaxation::NONE);
+    assign_on_huge_pages(level.x[f], n, Scalar(0));
+    assign_on_huge_pages(level.b[f], n, Scalar(0));
+    assign_on_huge_pages(level.r[f], n, Scalar(0));
+    assign_on_huge_pages(level.kind[f], n, VarKind::INACTIVE);
+    assign_on_huge_pages(level.relaxation[f], n, Relaxation::NONE);
   }
   for (std::ptrdiff_t k = 0; k < n; ++k) {
     for (int i = 0; i < Dim; ++i) level.kind[i][k] = classifier.face_kind(i, k);
