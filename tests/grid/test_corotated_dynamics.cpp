@@ -89,19 +89,25 @@ TEST_F(CorotatedDynamics, DampingMakesTheEnvelopeDecayMonotonically) {
 // gravity from an initial velocity: {geometric mean, worst}.
 std::pair<double, double> step_rates(double poisson, double dt, int steps, int every, int cycles,
                                      bool* finite = nullptr,
-                                     CorotatedSmoother smoother = CorotatedSmoother::BOX) {
+                                     CorotatedSmoother smoother = CorotatedSmoother::BOX,
+                                     CorotatedOuter outer = CorotatedOuter::NEWTON_KRYLOV,
+                                     double* seconds = nullptr, int recycled = 2) {
   ElasticityProblem<3> problem = bar(32, 8, 0.01, 2, {1e5, poisson});
   problem.body_force = [](const Vec<3>&) { return Vec<3>(0, -9.81 * kDensity, 0); };
   CorotatedBackwardEuler<3> sim(problem,
                                 {.dt = dt, .density = kDensity, .vcycles_per_step = cycles}, {},
-                                {.rotation_update_every = every, .smoother = smoother});
+                                {.rotation_update_every = every, .smoother = smoother, .step_outer = outer,
+                                 .recycled_directions = recycled});
   sim.set_velocity(bending_velocity(0.02, 0.3, 1.0));
   test::StepRates rates;
+  double total = 0;
   for (int n = 0; n < steps; ++n) {
     const CorotatedReport report = sim.step();
     rates.add(report.nonlinear.back() / report.nonlinear.front());
+    total += report.seconds;
   }
   if (finite) *finite = test::all_finite(sim.velocity());
+  if (seconds) *seconds = total / steps;
   return rates.mean_and_worst();
 }
 
@@ -158,6 +164,21 @@ TEST_F(CorotatedDynamics, LargeStepAtNearIncompressibilityConverges) {
   EXPECT_TRUE(finite);
   EXPECT_LE(mean, 0.2);
   EXPECT_LT(worst, 0.8);
+}
+
+TEST_F(CorotatedDynamics, NewtonKrylovProbe) {
+  struct V { int cycles, every; CorotatedOuter outer; };
+  for (const V v : {V{1, 1, CorotatedOuter::PICARD}, V{1, 1, CorotatedOuter::NEWTON_KRYLOV},
+                    V{1, 5, CorotatedOuter::PICARD}, V{1, 5, CorotatedOuter::NEWTON_KRYLOV},
+                    V{2, 2, CorotatedOuter::NEWTON_KRYLOV}}) {
+    double seconds = 0;
+    const auto [mean, worst] = step_rates(0.45, 1.0 / 30, 30, v.every, v.cycles, nullptr,
+                                          CorotatedSmoother::BOX, v.outer, &seconds);
+    std::printf("probe %s cycles %d k %d: mean %.3f worst %.3f %.3f s/step\n",
+                v.outer == CorotatedOuter::PICARD ? "picard" : "newton", v.cycles, v.every, mean,
+                worst, seconds);
+    std::fflush(stdout);
+  }
 }
 
 TEST_F(CorotatedDynamics, DivergedStepThrowsNamingTheTime) {
