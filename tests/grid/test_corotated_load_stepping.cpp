@@ -75,22 +75,5 @@ TEST(CorotatedLoadStepping, HeavyCantileverConvergesWhereTheColdStartDiverges) {
   EXPECT_GT(tip, -1.0);
 }
 
-TEST(CorotatedLoadStepping, NewtonProbe) {
-  const ElasticityProblem<3> problem = heavy_cantilever(0.49);
-  for (const int every : {5}) {
-    CorotatedOptions options = every_cycle();
-    options.rotation_update_every = every;
-    options.outer = CorotatedOuter::NEWTON_KRYLOV;
-    CorotatedMultigrid<3> stepped(problem, {}, options);
-    const CorotatedReport report = stepped.solve_with_load_steps(1e-2, 20);
-    std::printf("  probe newton k %d: %d increments, %d cycles, %.3g -> %.3g, tip %.3f, %.1f s, last 5:", every,
-                report.load_increments, report.cycles(), report.nonlinear.front(),
-                report.nonlinear.back(), tip_deflection(stepped.solution_level()), report.seconds);
-    for (std::size_t i = report.nonlinear.size() - 6; i < report.nonlinear.size(); ++i) std::printf(" %.3g", report.nonlinear[i]);
-    std::printf("\n");
-    std::fflush(stdout);
-  }
-}
-
 }  // namespace
 }  // namespace mgelastic::grid

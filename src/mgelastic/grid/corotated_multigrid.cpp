@@ -461,8 +461,7 @@ int CorotatedMultigrid<Dim>::newton_krylov_step(int directions, double target,
   MinimalResidualCombination combination(residual_vector());
   const Eigen::VectorXd r0 = combination.residual();
   // Forward difference step: ~sqrt(machine epsilon) of the unknowns' size (at least the cell).
-  const double scale =
-      1e-7 * std::max(x.lpNorm<Eigen::Infinity>(), m_multigrid.level(0).lattice.h);
+  const double scale = 1e-7 * std::max(x.lpNorm<Eigen::Infinity>(), m_multigrid.level(0).lattice.h);
   auto add_direction = [&](const Eigen::VectorXd& z) {
     const double largest = z.lpNorm<Eigen::Infinity>();
     Eigen::VectorXd w = Eigen::VectorXd::Zero(x.size());
