@@ -39,10 +39,11 @@ class AndersonMixing;
 enum class CorotatedSmoother { BOX, DISTRIBUTIVE };
 
 // Outer (rotation refresh) iteration. PICARD: k frozen-rotation V-cycles per refresh (solve()
-// may mix them with Anderson acceleration). NEWTON_KRYLOV: per refresh one Newton step on the
-// true non-linear residual, its k directions preconditioned by one frozen V-cycle each and
-// combined by minimal residual with finite-difference Jacobian products
-// (corotated_newton_krylov.hpp).
+// may mix them with Anderson acceleration). NEWTON_KRYLOV: Newton steps on the true non-linear
+// residual, each direction one frozen V-cycle (the preconditioner; its rotations refreshed
+// every k cycles), plus the last steps' corrections, combined by minimal residual with
+// finite-difference Jacobian products (corotated_newton_krylov.hpp). Not bit-reproducible
+// across a checkpoint/resume: the recycled corrections are not part of the state.
 enum class CorotatedOuter { PICARD, NEWTON_KRYLOV };
 
 struct CorotatedOptions {
