@@ -67,6 +67,14 @@ typename CorotatedMultigrid<Dim>::Attempt CorotatedMultigrid<Dim>::solve_increme
   double residual = initial;
   for (int cycle = 0; cycle < max_cycles; ++cycle) {
     if (residual <= target) return Attempt::CONVERGED;
+    if (m_options.outer == CorotatedOuter::NEWTON_KRYLOV) {
+      const int directions = std::min(m_options.rotation_update_every, max_cycles - cycle);
+      cycle += newton_krylov_step(directions, target, report) - 1;
+      residual = report.nonlinear.back();
+      if (!std::isfinite(residual) || residual > kIncrementGrowth * initial)
+        return Attempt::DIVERGED;
+      continue;
+    }
     double quasi_linear = 0;
     if (m_options.acceleration_depth > 0) {
       residual = accelerated_cycle(anderson, residual, quasi_linear);

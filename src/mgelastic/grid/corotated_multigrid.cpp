@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <Eigen/SparseLU>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -10,6 +11,7 @@
 #include "mgelastic/core/timer.hpp"
 #include "mgelastic/grid/corotated_acceleration.hpp"
 #include "mgelastic/grid/corotated_distributive_smoother.hpp"
+#include "mgelastic/grid/corotated_newton_krylov.hpp"
 #include "mgelastic/grid/transfer.hpp"
 
 namespace mgelastic::grid {
@@ -390,9 +392,113 @@ double CorotatedMultigrid<Dim>::accelerated_cycle(AndersonMixing& anderson, doub
   return residual;
 }
 
+// The finest level's r at the rows' variables (after a residual evaluation).
+template <int Dim>
+Eigen::VectorXd CorotatedMultigrid<Dim>::residual_vector() const {
+  const CorotatedRows& rows = m_rows[0];
+  const auto& level = m_multigrid.level(0);
+  const std::size_t n = level.size();
+  Eigen::VectorXd r(static_cast<Eigen::Index>(rows.rows()));
+  for (std::size_t m = 0; m < rows.rows(); ++m)
+    r[static_cast<Eigen::Index>(m)] = level.r[rows.target[m] / n][rows.target[m] % n];
+  return r;
+}
+
+template <int Dim>
+double CorotatedMultigrid<Dim>::matrix_free_nonlinear_residual() {
+  auto& finest = m_multigrid.level(0);
+  return corotated_residual(finest, cell_rotations(finest), m_sigma, false, m_options.stress);
+}
+
+// z = B v, B = one frozen V-cycle: the cycle from x after shifting b so that the frozen
+// residual at x is v (v == nullptr: v = r0, the plain cycle). The cycle is affine and leaves a
+// zero-residual x unchanged, so the change of x is B v. Restores x and b.
+template <int Dim>
+Eigen::VectorXd CorotatedMultigrid<Dim>::frozen_cycle_direction(const Eigen::VectorXd& x,
+                                                                const Eigen::VectorXd& r0,
+                                                                const Eigen::VectorXd* v) {
+  auto& level = m_multigrid.level(0);
+  const CorotatedRows& rows = m_rows[0];
+  const std::size_t n = level.size();
+  std::vector<double> saved;
+  if (v)
+    for (std::size_t m = 0; m < rows.rows(); ++m) {
+      double& b = level.b[rows.target[m] / n][rows.target[m] % n];
+      saved.push_back(b);
+      b += (*v)[static_cast<Eigen::Index>(m)] - r0[static_cast<Eigen::Index>(m)];
+    }
+  correct(0);
+  Eigen::VectorXd z = gather_unknowns() - x;
+  if (v)
+    for (std::size_t m = 0; m < rows.rows(); ++m)
+      level.b[rows.target[m] / n][rows.target[m] % n] = saved[m];
+  scatter_unknowns(x);
+  return z;
+}
+
+// One Newton step at the refreshed rotations (corotated_newton_krylov.hpp); pushes the
+// non-linear residual after each direction (one frozen V-cycle each) and returns how many were
+// used (fewer when `target` is reached first).
+template <int Dim>
+int CorotatedMultigrid<Dim>::newton_krylov_step(int directions, double target,
+                                                CorotatedReport& report) {
+  // The rotations only precondition (the Jacobian products use the true residual), so they
+  // are refreshed every k cycles as in the Picard iteration.
+  if (m_cycles_since_refresh >= m_options.rotation_update_every) {
+    if (m_fresh)
+      refresh_rotations(std::move(*m_fresh));
+    else
+      refresh_rotations();
+  }
+  m_fresh.reset();
+  // The traction variables of x from the current rotations, as at every evaluation below (the
+  // finite differences must not see a change of the rotations).
+  const Eigen::VectorXd x = gather_unknowns();
+  scatter_unknowns(x);
+  quasi_linear_residual();
+  const Eigen::VectorXd frozen = residual_vector();
+  matrix_free_nonlinear_residual();
+  MinimalResidualCombination combination(residual_vector());
+  const Eigen::VectorXd r0 = combination.residual();
+  // Forward difference step: ~sqrt(machine epsilon) of the unknowns' size (at least the cell).
+  const double scale = 1e-7 * std::max(x.lpNorm<Eigen::Infinity>(), m_multigrid.level(0).lattice.h);
+  auto add_direction = [&](const Eigen::VectorXd& z) {
+    const double largest = z.lpNorm<Eigen::Infinity>();
+    Eigen::VectorXd w = Eigen::VectorXd::Zero(x.size());
+    if (largest > 0 && std::isfinite(largest)) {
+      const double eps = scale / largest;
+      scatter_unknowns(x + eps * z);
+      matrix_free_nonlinear_residual();
+      w = (r0 - residual_vector()) / eps;
+    }
+    combination.add(z, w);
+  };
+  for (const Eigen::VectorXd& z : m_recycled) add_direction(z);
+  for (int j = 0; j < directions; ++j) {
+    const Eigen::VectorXd s = combination.residual();
+    const Eigen::VectorXd z = frozen_cycle_direction(x, frozen, &s);
+    add_direction(z);
+    const Eigen::VectorXd correction = combination.correction();
+    scatter_unknowns(x + correction);
+    const bool last = j + 1 == directions;
+    ++m_cycles_since_refresh;
+    // After the last direction the residual keeps its rows when the next step refreshes.
+    report.nonlinear.push_back(last ? nonlinear_residual() : matrix_free_nonlinear_residual());
+    report.quasi_linear.push_back(combination.residual().norm());
+    if (last && m_options.recycled_directions > 0 && correction.allFinite()) {
+      m_recycled.push_back(correction);
+      if (static_cast<int>(m_recycled.size()) > m_options.recycled_directions)
+        m_recycled.pop_front();
+    }
+    if (!std::isfinite(report.nonlinear.back()) || report.nonlinear.back() <= target) return j + 1;
+  }
+  return directions;
+}
+
 template <int Dim>
 CorotatedReport CorotatedMultigrid<Dim>::solve(double relative_tolerance, int max_cycles,
-                                               bool accelerate) {
+                                               bool accelerate, CorotatedOuter outer,
+                                               int newton_directions) {
   CorotatedReport report;
   Timer timer;
   report.nonlinear.push_back(nonlinear_residual());
@@ -406,7 +512,10 @@ CorotatedReport CorotatedMultigrid<Dim>::solve(double relative_tolerance, int ma
       report.converged = true;
       break;
     }
-    if (accelerate && m_options.acceleration_depth > 0) {
+    if (outer == CorotatedOuter::NEWTON_KRYLOV) {
+      const int directions = std::min(newton_directions, max_cycles - cycle);
+      cycle += newton_krylov_step(directions, relative_tolerance * initial, report) - 1;
+    } else if (accelerate && m_options.acceleration_depth > 0) {
       double quasi_linear = 0;
       report.nonlinear.push_back(
           accelerated_cycle(anderson, report.nonlinear.back(), quasi_linear));
