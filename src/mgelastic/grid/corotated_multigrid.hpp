@@ -37,12 +37,19 @@ class AndersonMixing;
 // over the interior, then the band again.
 enum class CorotatedSmoother { BOX, DISTRIBUTIVE };
 
+// Band of the DISTRIBUTIVE smoother. SCHUR: Gauss-Seidel on the band's Schur complement with
+// edge-averaged pressures (Sec. 5.3 / 7, corotated_band_smoother.hpp), multithreaded, as many
+// sweeps per pass as the linear engine (MultigridOptions::boundary_sweeps: 2 / 3 / 4 by nu).
+// BOX: `band_sweeps` box (Vanka) sweeps over the band's cells, one thread.
+enum class CorotatedBand { SCHUR, BOX };
+
 struct CorotatedOptions {
   int rotation_update_every = 5;  // V-cycles between rotation refreshes (k >= 1)
   CorotatedSmoother smoother = CorotatedSmoother::BOX;
   double block_weight = 1.0;  // relaxation weight of the box smoother
   int sweeps = 2;             // smoothing steps before and after each coarse correction
-  int band_sweeps = 1;        // DISTRIBUTIVE: band box sweeps before and after the interior one
+  CorotatedBand band = CorotatedBand::SCHUR;  // DISTRIBUTIVE only
+  int band_sweeps = 1;  // DISTRIBUTIVE with BOX band: box sweeps before and after the interior one
   int relocation_sweeps = 2;  // extra sweeps over Fig. 8 relocated-boundary blocks
   CorotatedStress stress = CorotatedStress::SYMMETRIZED;
   // Anderson history of solve()'s outer iteration (corotated_acceleration.hpp); 0 = plain
@@ -130,6 +137,7 @@ class CorotatedMultigrid {
   void scatter_unknowns(const Eigen::VectorXd& values);
   enum class BlockSet { ALL, BAND, RELOCATED };
   void box_sweep(int l, bool forward, BlockSet set);
+  void band_pass(int l, bool forward);
   void smooth(int l, bool forward);
   void correct(int l);
   void back_substitute(int l);
