@@ -4,6 +4,33 @@
 #include <cmath>
 
 namespace mgelastic::grid {
+namespace {
+
+// One row scattered into a dense array over all variables, so the Schur entries of a row cost
+// one read per term instead of a search of the row (the blocks need (2d)^2 of them per cell).
+class DenseRow {
+ public:
+  DenseRow(const CorotatedRows& rows, std::size_t variables) : m_rows(rows), m_value(variables) {}
+  void load(std::uint32_t m) {
+    unload();
+    m_loaded = m;
+    for (std::uint32_t e = m_rows.start[m]; e < m_rows.start[m + 1]; ++e)
+      m_value[m_rows.column[e]] += m_rows.value[e];
+  }
+  double operator[](std::uint32_t variable) const { return m_value[variable]; }
+
+ private:
+  void unload() {
+    if (m_loaded == UINT32_MAX) return;
+    for (std::uint32_t e = m_rows.start[m_loaded]; e < m_rows.start[m_loaded + 1]; ++e)
+      m_value[m_rows.column[e]] = 0;
+  }
+  const CorotatedRows& m_rows;
+  std::vector<double> m_value;
+  std::uint32_t m_loaded = UINT32_MAX;
+};
+
+}  // namespace
 
 // Field pointers and the smoother's data, so the inner loops read x without vector indirection.
 template <int Dim>
@@ -95,7 +122,6 @@ void CorotatedBandSmoother<Dim>::build_pressures(const Level<Dim, double>& level
 template <int Dim>
 void CorotatedBandSmoother<Dim>::build_factors(const Level<Dim, double>& level,
                                                const CorotatedRows& rows) {
-  (void)level;
   const std::size_t count = rows.rows();
   const auto band_row = [&](std::uint32_t e) -> std::int32_t {
     const std::int32_t b = rows.row_of[rows.column[e]];
@@ -118,21 +144,25 @@ void CorotatedBandSmoother<Dim>::build_factors(const Level<Dim, double>& level,
       }
   }
   m_inverse_pivot.assign(count, 0.0);
+  DenseRow row(rows, (Dim + 1) * level.size());
   for (std::uint32_t m = 0; m < count; ++m) {
     if (!m_in_band[m]) continue;
-    const double pivot = schur_entry(rows, m, m);
+    row.load(m);
+    const double pivot = schur_entry(row, rows, m);
     // A vanishing or non-finite pivot (degenerate rotations) leaves the row as it is.
     if (std::isfinite(pivot) && pivot != 0) m_inverse_pivot[m] = 1.0 / pivot;
   }
 }
 
-// S_ab = A_ab - sum_c G_ac G'_cb / D_c over the eliminated pressures that u_b moves.
+// S_ab = A_ab - sum_c G_ac G'_cb / D_c over the eliminated pressures that u_b moves; `row_a`
+// holds row a.
 template <int Dim>
-double CorotatedBandSmoother<Dim>::schur_entry(const CorotatedRows& rows, std::uint32_t a,
+template <typename DenseRow>
+double CorotatedBandSmoother<Dim>::schur_entry(const DenseRow& row_a, const CorotatedRows& rows,
                                                std::uint32_t b) const {
-  double value = rows.coefficient(a, rows.target[b]);
+  double value = row_a[rows.target[b]];
   for (std::uint32_t e = m_factor_start[b]; e < m_factor_start[b + 1]; ++e)
-    value -= rows.coefficient(a, m_factor_variable[e]) * m_factor[e];
+    value -= row_a[m_factor_variable[e]] * m_factor[e];
   return value;
 }
 
@@ -146,6 +176,7 @@ void CorotatedBandSmoother<Dim>::build_schedule(const Level<Dim, double>& level,
     return m >= 0 && m_in_band[m] ? m : -1;
   };
   std::vector<std::uint8_t> scheduled(rows.rows(), 0);
+  DenseRow row(rows, (Dim + 1) * level.size());
   for (std::size_t c = 0; c < m_schedule.size(); ++c) {
     m_schedule[c].resize(level.band_schedule[c].size());
     for (std::size_t w = 0; w < level.band_schedule[c].size(); ++w) {
@@ -159,8 +190,10 @@ void CorotatedBandSmoother<Dim>::build_schedule(const Level<Dim, double>& level,
           if (r != UINT32_MAX)
             if (const std::int32_t m = mapped(r); m >= 0) members[size++] = m;
         Eigen::MatrixXd s(size, size);
-        for (int a = 0; a < size; ++a)
-          for (int b = 0; b < size; ++b) s(a, b) = schur_entry(rows, members[a], members[b]);
+        for (int a = 0; a < size; ++a) {
+          row.load(members[a]);
+          for (int b = 0; b < size; ++b) s(a, b) = schur_entry(row, rows, members[b]);
+        }
         const Eigen::FullPivLU<Eigen::MatrixXd> lu(s);
         if (size < 2 || !lu.isInvertible() || !s.allFinite()) {
           for (int a = 0; a < size; ++a) work.point_rows.push_back(members[a]);

@@ -62,7 +62,8 @@ class CorotatedBandSmoother {
   void build_pressures(const Level<Dim, double>& level, const CorotatedRows& rows);
   void build_factors(const Level<Dim, double>& level, const CorotatedRows& rows);
   void build_schedule(const Level<Dim, double>& level, const CorotatedRows& rows);
-  double schur_entry(const CorotatedRows& rows, std::uint32_t a, std::uint32_t b) const;
+  template <typename DenseRow>
+  double schur_entry(const DenseRow& row_a, const CorotatedRows& rows, std::uint32_t b) const;
 
   std::vector<std::uint32_t> m_pressure_rows;
   std::vector<double> m_pressure_inverse;
