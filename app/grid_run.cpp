@@ -320,12 +320,14 @@ void simulate_dynamic(const scene::Scene& s, const scene::GridSetup& setup,
 }
 
 // Co-rotational model (Sec. 7, `material.model: corotated`): the same runs on the co-rotated
-// multigrid (double precision, box smoother, rotations refreshed every
+// multigrid (double precision, `solver.corotated_smoother`, rotations refreshed every
 // `time.rotation_update_every` cycles). Progress and summary report the true non-linear residual
 // (the convergence test) and the quasi-linear residual of the last frozen system.
 grid::CorotatedOptions corotated_options(const scene::Scene& s) {
   grid::CorotatedOptions options;
   options.rotation_update_every = s.time.rotation_update_every;
+  options.smoother = s.corotated_smoother == "distributive" ? grid::CorotatedSmoother::DISTRIBUTIVE
+                                                            : grid::CorotatedSmoother::BOX;
   return options;
 }
 

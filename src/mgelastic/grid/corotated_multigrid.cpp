@@ -10,6 +10,7 @@
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/timer.hpp"
 #include "mgelastic/grid/corotated_acceleration.hpp"
+#include "mgelastic/grid/corotated_band_smoother.hpp"
 #include "mgelastic/grid/corotated_distributive_smoother.hpp"
 #include "mgelastic/grid/corotated_newton_krylov.hpp"
 #include "mgelastic/grid/transfer.hpp"
@@ -33,6 +34,7 @@ struct CorotatedMultigrid<Dim>::Blocks {
 template <int Dim>
 struct CorotatedMultigrid<Dim>::Interior {
   CorotatedDistributiveSmoother<Dim> smoother;
+  CorotatedBandSmoother<Dim> band;
 };
 
 template <int Dim>
@@ -203,7 +205,7 @@ void CorotatedMultigrid<Dim>::build_level_system(int l, CorotatedRows rows_of_le
           break;
         }
       }
-    m_interior[l] = std::make_unique<Interior>(Interior{{level, m_rows[l]}});
+    m_interior[l] = std::make_unique<Interior>(Interior{{level, m_rows[l]}, {level, m_rows[l]}});
   }
   m_blocks[l] = std::move(blocks);
 }
@@ -249,6 +251,15 @@ void CorotatedMultigrid<Dim>::box_sweep(int l, bool forward, BlockSet set) {
   }
 }
 
+template <int Dim>
+void CorotatedMultigrid<Dim>::band_pass(int l, bool forward) {
+  if (m_options.band == CorotatedBand::SCHUR) {
+    m_interior[l]->band.sweep(m_multigrid.level(l), m_rows[l], m_multigrid.boundary_sweeps());
+    return;
+  }
+  for (int sweep = 0; sweep < m_options.band_sweeps; ++sweep) box_sweep(l, forward, BlockSet::BAND);
+}
+
 // One smoothing step, then the traction variables from the co-rotated traction conditions.
 template <int Dim>
 void CorotatedMultigrid<Dim>::smooth(int l, bool forward) {
@@ -256,11 +267,9 @@ void CorotatedMultigrid<Dim>::smooth(int l, bool forward) {
     box_sweep(l, forward, BlockSet::ALL);
   } else {
     // Sec. 5.2: a band pass, the interior distributive pass, a last band pass.
-    for (int sweep = 0; sweep < m_options.band_sweeps; ++sweep)
-      box_sweep(l, forward, BlockSet::BAND);
+    band_pass(l, forward);
     m_interior[l]->smoother.sweep(m_multigrid.level(l), m_rows[l]);
-    for (int sweep = 0; sweep < m_options.band_sweeps; ++sweep)
-      box_sweep(l, forward, BlockSet::BAND);
+    band_pass(l, forward);
   }
   back_substitute(l);
 }

@@ -9,12 +9,13 @@
 // together with the smoother's blocks and the coarsest LU factor. Smoother (CorotatedSmoother):
 // BOX = multiplicative box (Vanka) Gauss-Seidel, one block per interior cell = its interior
 // faces and its pressure, `sweeps` forward before and backward after the coarse correction;
-// DISTRIBUTIVE = the paper's split: box sweeps over the band's cells, the distributive sweep
-// with the generalized distribution (15) over the interior (corotated_distributive_smoother.hpp,
-// multithreaded), the band again. Both add `relocation_sweeps` over the blocks of the Fig. 8
-// relocated-boundary sets and back-substitute the traction variables with the co-rotated stress
-// after each smoothing step. The band is smoothed by boxes, not by the paper's symmetric
-// Gauss-Seidel on the Schur complement (not built, see docs/grid-engine.md).
+// DISTRIBUTIVE = the paper's split: a band pass (CorotatedBand: SCHUR = Gauss-Seidel on the
+// band's Schur complement with edge-averaged pressures, corotated_band_smoother.hpp, or BOX =
+// box sweeps over the band's cells), the distributive sweep with the generalized distribution
+// (15) over the interior (corotated_distributive_smoother.hpp), the band again; both
+// multithreaded except the box band. Both smoothers add `relocation_sweeps` box sweeps over the
+// blocks of the Fig. 8 relocated-boundary sets and back-substitute the traction variables with
+// the co-rotated stress after each smoothing step.
 //
 // Residuals: the quasi-linear one (rows of the current frozen rotations) and the true
 // non-linear one (rotations of the current displacement), both in the norm of residual.hpp.
@@ -33,9 +34,10 @@ namespace mgelastic::grid {
 class AndersonMixing;
 
 // BOX: box (Vanka) Gauss-Seidel over every interior cell. DISTRIBUTIVE: the paper's split,
-// box sweeps over the boundary band's cells (rows the linear level marks BAND), then the
+// a pass over the boundary band (rows the linear level marks BAND; CorotatedBand), then the
 // distributive sweep with the generalized distribution (corotated_distributive_smoother.hpp)
-// over the interior, then the band again.
+// over the interior, then the band again. BOX stays the default: the distributive sweep lost
+// its rate on a 48x12x12 bar twisted by 90 degrees (docs/grid-engine.md).
 enum class CorotatedSmoother { BOX, DISTRIBUTIVE };
 
 // Outer (rotation refresh) iteration. PICARD: k frozen-rotation V-cycles per refresh (solve()
@@ -46,12 +48,19 @@ enum class CorotatedSmoother { BOX, DISTRIBUTIVE };
 // across a checkpoint/resume: the recycled corrections are not part of the state.
 enum class CorotatedOuter { PICARD, NEWTON_KRYLOV };
 
+// Band of the DISTRIBUTIVE smoother. SCHUR: Gauss-Seidel on the band's Schur complement with
+// edge-averaged pressures (Sec. 5.3 / 7, corotated_band_smoother.hpp), multithreaded, as many
+// sweeps per pass as the linear engine (MultigridOptions::boundary_sweeps: 2 / 3 / 4 by nu).
+// BOX: `band_sweeps` box (Vanka) sweeps over the band's cells, one thread.
+enum class CorotatedBand { SCHUR, BOX };
+
 struct CorotatedOptions {
   int rotation_update_every = 5;  // V-cycles between rotation refreshes (k >= 1)
   CorotatedSmoother smoother = CorotatedSmoother::BOX;
   double block_weight = 1.0;  // relaxation weight of the box smoother
   int sweeps = 2;             // smoothing steps before and after each coarse correction
-  int band_sweeps = 1;        // DISTRIBUTIVE: band box sweeps before and after the interior one
+  CorotatedBand band = CorotatedBand::SCHUR;  // DISTRIBUTIVE only
+  int band_sweeps = 1;  // DISTRIBUTIVE with BOX band: box sweeps before and after the interior one
   int relocation_sweeps = 2;  // extra sweeps over Fig. 8 relocated-boundary blocks
   CorotatedStress stress = CorotatedStress::SYMMETRIZED;
   // Anderson history of solve()'s outer iteration (corotated_acceleration.hpp); 0 = plain
@@ -160,6 +169,7 @@ class CorotatedMultigrid {
   void scatter_unknowns(const Eigen::VectorXd& values);
   enum class BlockSet { ALL, BAND, RELOCATED };
   void box_sweep(int l, bool forward, BlockSet set);
+  void band_pass(int l, bool forward);
   void smooth(int l, bool forward);
   void correct(int l);
   void back_substitute(int l);

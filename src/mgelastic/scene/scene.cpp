@@ -98,6 +98,7 @@ Scene parse_scene(const nlohmann::json& document, const std::string& file,
   s.precision = d["solver"]["precision"];
   s.cycle = d["solver"]["cycle"];
   s.boundary_sweeps = d["solver"]["boundary_sweeps"];
+  s.corotated_smoother = d["solver"]["corotated_smoother"];
   s.band_layers = d["solver"]["band_layers"];
   s.accelerate = d["solver"]["accelerate"];
   s.output_dir = d["output"]["dir"];

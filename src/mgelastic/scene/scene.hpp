@@ -65,6 +65,7 @@ struct Scene {
   int max_vcycles = 50;
   std::string precision = "float", cycle = "V";
   int boundary_sweeps = 0;
+  std::string corotated_smoother = "box";
   int band_layers = 1;
   bool accelerate = true;
   std::string output_dir = "out";

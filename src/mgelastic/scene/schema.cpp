@@ -140,6 +140,11 @@ Field build_schema() {
              "", true},
        integer("boundary_sweeps", "Band Gauss-Seidel sweeps per pass; 0 = paper default for nu", 0,
                0),
+       choice("corotated_smoother",
+              "Smoother of material.model corotated: box (Vanka) Gauss-Seidel over every cell, or "
+              "distributive (Sec. 7: distributive interior, Gauss-Seidel on the band's Schur "
+              "complement)",
+              "box", {"box", "distributive"}),
        integer("band_layers",
                "Extra cell layers of the boundary band (0 = the paper's narrow band; 1 speeds up "
                "embedded bodies whose constraints cut them at shallow angles)",
