@@ -352,8 +352,9 @@ TEST(TetMultigrid, RateOnRealMeshesOfSeveralSizes) {
 // slowest mode is two thin claw tips moving against each other inside one coarse cube, too smooth
 // for the smoother and not representable by the coarse space; it weighs more as the step matrix
 // gets stiffness-dominated. Composite coarse cubes (coarse DOFs per connected piece of a cube)
-// leave these rates unchanged (0.29 / 0.43 / 0.55): the slow tips are connected inside their cube. Its rates (and the bunny's V(1,1)) are bounded at the measured value
-// plus a margin so that a regression shows.
+// leave these rates unchanged (0.29 / 0.43 / 0.55): the slow tips are connected inside their
+// cube. Its rates (and the bunny's V(1,1)) are bounded at the measured value plus a margin so
+// that a regression shows.
 constexpr double kTetGenVCycleRate = 0.76;
 constexpr double kTetGenSymmetricRate = 0.60;
 
