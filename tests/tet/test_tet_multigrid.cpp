@@ -522,7 +522,7 @@ namespace mgelastic::tet {
 namespace {
 
 // Diagnostics (not run by default): MG_MESH=bar:N | file, MG_REFINE, MG_FACTOR, MG_SWEEPS,
-// MG_SYM, MG_COARSEST, MG_NU, MG_E.
+// MG_SYM, MG_COARSEST, MG_NU, MG_E, MG_VALENCE / MG_PATCH (feature patches).
 double env_or(const char* name, double fallback) {
   const char* v = std::getenv(name);
   return v != nullptr && *v != 0 ? std::atof(v) : fallback;
@@ -652,6 +652,8 @@ TEST(TetMultigridDiagnostics, DISABLED_SlowMode) {
   settings.lexicographic = env_or("MG_LEX", 0) != 0;
   settings.smoother.strong_coupling = env_or("MG_STRONG", 0.3);
   settings.smoother.max_cluster_size = static_cast<int>(env_or("MG_CLUSTER", 4));
+  settings.patches.max_valence = static_cast<int>(env_or("MG_VALENCE", 0));
+  settings.patches.max_size = static_cast<int>(env_or("MG_PATCH", 12));
   const TetMultigrid mg = step_multigrid(problem, settings);
   std::mt19937 rng(3);
   std::normal_distribution<double> normal;

@@ -53,8 +53,9 @@ struct TetMultigridSettings {
   ClusterSmootherSettings smoother;
   bool lexicographic = false;
   // Block solves on patches at thin features of the fine level after each forward sweep and
-  // before each backward one (feature_patches.hpp; off by default). Max valence 6, 12 vertices:
-  // tetgen armadillo 18k / 28k / 67k symmetric 0.29 / 0.43 / 0.55 -> 0.10 / 0.18 / 0.29.
+  // before each backward one (feature_patches.hpp; off by default). Max valence 7, 12 vertices:
+  // tetgen armadillo 18k / 28k / 67k symmetric 0.29 / 0.43 / 0.55 -> 0.07 / 0.09 / 0.24, at ~2x
+  // the symmetric V-cycle's CPU time (docs/tet-engine.md, Convergence).
   FeaturePatchSettings patches;
 };
 
