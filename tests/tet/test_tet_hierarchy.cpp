@@ -1,6 +1,7 @@
 // Coarse regular tet grids, barycentric prolongation and the Dirichlet rule (tet_hierarchy.hpp).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "mgelastic/core/error.hpp"
@@ -139,7 +140,7 @@ TEST(TetHierarchy, CoarseVerticesStraddlingAGapAreSplitPerPart) {
   settings.max_coarsest_vertices = 100;
   const TetHierarchy hierarchy(mesh, {}, settings);
   ASSERT_GE(hierarchy.level_count(), 2);
-  EXPECT_GT(hierarchy.vertex_count(1), hierarchy.coarse_mesh(1).vertex_count());
+  EXPECT_GT(hierarchy.vertex_count(1), hierarchy.grid_point_count(1));
   const Prolongation& p = hierarchy.prolongation(0);
   std::vector<int> side(p.coarse_vertex_count, -1);  // slab of the support, -1 = none yet
   for (int v = 0; v < p.fine_vertex_count(); ++v) {
@@ -153,6 +154,49 @@ TEST(TetHierarchy, CoarseVerticesStraddlingAGapAreSplitPerPart) {
       EXPECT_EQ(owner, slab_of_v) << "coarse DOF " << p.vertices[v][s] << " spans both slabs";
     }
     EXPECT_NEAR(sum, 1.0, kWeightRoundoff);
+  }
+}
+
+// A tuning fork: two prongs one fine cube apart, joined only by the base at x < 0.125. Every
+// level-1 cube between the prongs overlaps both; per-cube components give each prong its own
+// copies of the cube's corners, so along the prongs no coarse DOF weighs both (the coarse space
+// can move the tips against each other). Near the base they share DOFs. No coarse DOF of any
+// level is left without weight (copies no fine vertex weighs are dropped).
+TEST(TetHierarchy, ProngsInsideOneCoarseCubeGetSeparateCoarseDofs) {
+  const double h = 1.0 / 32;
+  const auto fork = [&](const Eigen::Vector3d& p) {
+    const bool base = p[0] < 0.125;
+    const bool prong = p[1] < 4 * h || p[1] > 5 * h;
+    return base || prong;
+  };
+  const geometry::TetMesh mesh =
+      geometry::regular_tet_grid(
+          fork, Eigen::AlignedBox3d(Eigen::Vector3d::Zero(), Eigen::Vector3d(1.0, 9 * h, 4 * h)), h)
+          .mesh;
+  TetHierarchySettings settings;
+  settings.max_coarsest_vertices = 50;
+  const TetHierarchy hierarchy(mesh, {}, settings);
+  ASSERT_GE(hierarchy.level_count(), 3);
+  EXPECT_GT(hierarchy.vertex_count(1), hierarchy.grid_point_count(1));
+  const Prolongation& p = hierarchy.prolongation(0);
+  std::vector<int> prong(p.coarse_vertex_count, -1);  // prong weighing the DOF beyond the base
+  for (int v = 0; v < p.fine_vertex_count(); ++v) {
+    if (mesh.vertices(v, 0) < 0.25) continue;
+    const int side = mesh.vertices(v, 1) < 4.5 * h ? 0 : 1;
+    for (int s = 0; s < 4; ++s) {
+      if (p.weights[v][s] == 0.0) continue;
+      int& owner = prong[p.vertices[v][s]];
+      if (owner < 0) owner = side;
+      EXPECT_EQ(owner, side) << "coarse DOF " << p.vertices[v][s] << " weighs both prongs";
+    }
+  }
+  for (int l = 0; l + 1 < hierarchy.level_count(); ++l) {
+    const Prolongation& pl = hierarchy.prolongation(l);
+    std::vector<char> weighed(pl.coarse_vertex_count, 0);
+    for (int v = 0; v < pl.fine_vertex_count(); ++v)
+      for (int s = 0; s < 4; ++s)
+        if (pl.weights[v][s] != 0.0) weighed[pl.vertices[v][s]] = 1;
+    EXPECT_EQ(std::count(weighed.begin(), weighed.end(), 0), 0) << "level " << l + 1;
   }
 }
 

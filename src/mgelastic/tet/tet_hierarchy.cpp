@@ -1,5 +1,6 @@
 #include "mgelastic/tet/tet_hierarchy.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -8,7 +9,7 @@
 #include <unordered_map>
 
 #include "mgelastic/core/error.hpp"
-#include "mgelastic/geometry/tet_mesh_grid.hpp"
+#include "mgelastic/tet/composite_coarsening.hpp"
 
 namespace mgelastic::tet {
 namespace {
@@ -17,10 +18,7 @@ namespace {
   throw Error(reason, ErrorContext{std::string(), -1, "TetHierarchy"});
 }
 
-// Weights below this (relative to 1) are round-off of a vertex lying on a face/edge/corner.
-constexpr double kZeroWeight = 1e-12;
-
-// Cube grid shared by regular_tet_grid and the occupancy predicate.
+// Cube grid of level 1 (cube size h, origin at the fine bounding box's minimum).
 struct CubeGrid {
   Eigen::Vector3d origin;
   double h = 0.0;
@@ -45,97 +43,80 @@ CubeGrid cube_grid(const Eigen::AlignedBox3d& box, double h) {
   return grid;
 }
 
-// Regular grid of cube size h whose cubes overlap the bounding box of some fine tetrahedron.
-geometry::RegularTetGrid covering_grid(const geometry::TetMesh& fine,
-                                       const Eigen::AlignedBox3d& box, double h) {
-  const CubeGrid grid = cube_grid(box, h);
-  const long long total = static_cast<long long>(grid.cells[0]) * grid.cells[1] * grid.cells[2];
-  if (total > (1LL << 31)) fail("coarse grid too large (cube size " + std::to_string(h) + ")");
-  std::vector<char> occupied(static_cast<std::size_t>(total), 0);
+// Separating-axis test of a tetrahedron against the closed cube [lo, lo + h]^3 (touching counts,
+// so a vertex on a cube face belongs to the cells of both cubes).
+bool tet_overlaps_cube(const Eigen::Matrix<double, 3, 4>& corners, const Eigen::Vector3d& lo,
+                       double h) {
+  const Eigen::Matrix<double, 3, 4> p = corners.colwise() - (lo.array() + 0.5 * h).matrix();
+  const double slack = 1e-9 * h;
+  const auto separates = [&](const Eigen::Vector3d& axis) {
+    const double length = axis.norm();
+    if (length <= 1e-14 * h * h) return false;  // parallel edges: no axis
+    const Eigen::Vector4d projection = p.transpose() * axis;
+    const double radius = 0.5 * h * axis.cwiseAbs().sum() + slack * length;
+    return projection.minCoeff() > radius || projection.maxCoeff() < -radius;
+  };
+  std::array<Eigen::Vector3d, 6> edges;
+  int e = 0;
+  for (int a = 0; a < 4; ++a)
+    for (int b = a + 1; b < 4; ++b) edges[e++] = p.col(b) - p.col(a);
+  for (int a = 0; a < 3; ++a)
+    if (separates(Eigen::Vector3d::Unit(a))) return false;
+  for (int f = 0; f < 4; ++f) {  // face opposite corner f
+    const int i = (f + 1) % 4, j = (f + 2) % 4, k = (f + 3) % 4;
+    if (separates((p.col(j) - p.col(i)).cross(p.col(k) - p.col(i)))) return false;
+  }
+  for (const Eigen::Vector3d& edge : edges)
+    for (int a = 0; a < 3; ++a)
+      if (separates(edge.cross(Eigen::Vector3d::Unit(a)))) return false;
+  return true;
+}
+
+// The fine tetrahedra as cells of level 0, each with the level-1 cubes it overlaps.
+LevelCells fine_cells(const geometry::TetMesh& fine, const CubeGrid& grid) {
+  LevelCells cells;
+  cells.dofs.reserve(4 * static_cast<std::size_t>(fine.tet_count()));
   for (int t = 0; t < fine.tet_count(); ++t) {
+    for (int a = 0; a < 4; ++a) cells.dofs.push_back(fine.tets(t, a));
+    cells.dof_offsets.push_back(static_cast<int>(cells.dofs.size()));
     const Eigen::Matrix<double, 3, 4> c = fine.corners(t);
     const Eigen::Vector3i lo = grid.cube_of(c.rowwise().minCoeff());
-    // A box ending exactly on a cube face does not reach into the next cube (Kuhn grids).
-    const Eigen::Vector3i hi = grid.cube_of(c.rowwise().maxCoeff().array() - 1e-9 * h);
+    const Eigen::Vector3i hi = grid.cube_of(c.rowwise().maxCoeff());
     for (int k = lo[2]; k <= hi[2]; ++k)
       for (int j = lo[1]; j <= hi[1]; ++j)
-        for (int i = lo[0]; i <= hi[0]; ++i) occupied[grid.key({i, j, k})] = 1;
-  }
-  // Evaluated at cube centres (CENTER), where cube_of is exact.
-  const auto inside = [&](const Eigen::Vector3d& p) {
-    return occupied[grid.key(grid.cube_of(p))] != 0;
-  };
-  return geometry::regular_tet_grid(inside, box, h, geometry::CubeSelection::CENTER);
-}
-
-// Barycentric coordinates of p in tetrahedron t of `mesh`.
-Eigen::Vector4d barycentric(const geometry::TetMesh& mesh, int t, const Eigen::Vector3d& p) {
-  const Eigen::Matrix<double, 3, 4> c = mesh.corners(t);
-  Eigen::Matrix3d edges;
-  edges << c.col(1) - c.col(0), c.col(2) - c.col(0), c.col(3) - c.col(0);
-  const Eigen::Vector3d l = edges.partialPivLu().solve(p - c.col(0));
-  return Eigen::Vector4d(1.0 - l.sum(), l[0], l[1], l[2]);
-}
-
-// Locates the vertices of the finer level in the coarse grid; Dirichlet rows zeroed.
-Prolongation locate(const Eigen::MatrixX3d& points, const std::vector<char>& fine_constrained,
-                    const geometry::RegularTetGrid& coarse, const CubeGrid& grid) {
-  // Cube of a Kuhn tet = component-wise minimum of its corners' grid indices.
-  std::unordered_map<long long, std::vector<int>> cube_tets;
-  for (int t = 0; t < coarse.mesh.tet_count(); ++t) {
-    Eigen::Vector3i lo = coarse.vertex_grid_index.row(coarse.mesh.tets(t, 0)).transpose();
-    for (int a = 1; a < 4; ++a)
-      lo = lo.cwiseMin(coarse.vertex_grid_index.row(coarse.mesh.tets(t, a)).transpose());
-    cube_tets[grid.key(lo)].push_back(t);
-  }
-  Prolongation p;
-  p.coarse_vertex_count = coarse.mesh.vertex_count();
-  const int n = static_cast<int>(points.rows());
-  p.vertices.resize(n);
-  p.weights.resize(n);
-  int uncovered = -1;  // thrown after the parallel region
-#pragma omp parallel for schedule(dynamic, 256) reduction(max : uncovered)
-  for (int v = 0; v < n; ++v) {
-    const Eigen::Vector3d x = points.row(v).transpose();
-    const Eigen::Vector3i home = grid.cube_of(x);
-    // The home cube first; its neighbours only when x is outside all its tets (round-off, or a
-    // point on the boundary of the kept cubes assigned to a dropped neighbour by floor).
-    int best = -1;
-    double best_min = -std::numeric_limits<double>::infinity();
-    Eigen::Vector4d best_w = Eigen::Vector4d::Zero();
-    const auto scan = [&](const Eigen::Vector3i& cube) {
-      for (int a = 0; a < 3; ++a)
-        if (cube[a] < 0 || cube[a] >= grid.cells[a]) return;
-      const auto found = cube_tets.find(grid.key(cube));
-      if (found == cube_tets.end()) return;
-      for (const int t : found->second) {
-        const Eigen::Vector4d w = barycentric(coarse.mesh, t, x);
-        if (w.minCoeff() > best_min) {
-          best_min = w.minCoeff();
-          best = t;
-          best_w = w;
+        for (int i = lo[0]; i <= hi[0]; ++i) {
+          const Eigen::Vector3i cube(i, j, k);
+          if (tet_overlaps_cube(c, grid.origin + grid.h * cube.cast<double>(), grid.h))
+            cells.cubes.push_back(cube);
         }
-      }
-    };
-    scan(home);
-    if (best_min < -kZeroWeight)
-      for (int k = -1; k <= 1; ++k)
-        for (int j = -1; j <= 1; ++j)
-          for (int i = -1; i <= 1; ++i)
-            if (i != 0 || j != 0 || k != 0) scan(home + Eigen::Vector3i(i, j, k));
-    if (best < 0) {
-      uncovered = std::max(uncovered, v);
-      continue;
-    }
-    const bool dirichlet = !fine_constrained.empty() && fine_constrained[v] != 0;
-    for (int s = 0; s < 4; ++s) {
-      p.vertices[v][s] = coarse.mesh.tets(best, s);
-      p.weights[v][s] = dirichlet || std::abs(best_w[s]) < kZeroWeight ? 0.0 : best_w[s];
-    }
+    cells.cube_offsets.push_back(static_cast<int>(cells.cubes.size()));
   }
-  if (uncovered >= 0)
-    fail("vertex " + std::to_string(uncovered) + " is not covered by the coarse grid");
-  return p;
+  return cells;
+}
+
+// Cells over the split DOFs: each original DOF replaced by all of its parts.
+LevelCells split_cells(const LevelCells& cells, const std::vector<int>& parent) {
+  std::vector<std::vector<int>> parts(
+      cells.dofs.empty() ? 0 : *std::max_element(cells.dofs.begin(), cells.dofs.end()) + 1);
+  for (int d = 0; d < static_cast<int>(parent.size()); ++d)
+    if (parent[d] < static_cast<int>(parts.size())) parts[parent[d]].push_back(d);
+  LevelCells split;
+  for (int c = 0; c < cells.cell_count(); ++c) {
+    for (int k = cells.dof_offsets[c]; k < cells.dof_offsets[c + 1]; ++k)
+      for (const int d : parts[cells.dofs[k]]) split.dofs.push_back(d);
+    split.dof_offsets.push_back(static_cast<int>(split.dofs.size()));
+  }
+  return split;
+}
+
+// Level-(l+1) cells seen from level l+2: each lies in the cube containing its own (halved).
+void assign_parent_cubes(LevelCells& cells, const std::vector<Eigen::Vector3i>& cell_cubes) {
+  cells.cubes.clear();
+  cells.cube_offsets.assign(1, 0);
+  for (const Eigen::Vector3i& cube : cell_cubes) {
+    cells.cubes.push_back(Eigen::Vector3i(cube[0] / 2, cube[1] / 2, cube[2] / 2));
+    cells.cube_offsets.push_back(static_cast<int>(cells.cubes.size()));
+  }
 }
 
 // Vertex adjacency of a tetrahedral mesh (each vertex's neighbours, sorted, without itself).
@@ -318,14 +299,32 @@ TetHierarchy::TetHierarchy(const geometry::TetMesh& fine, const std::vector<char
                                               : constrained);
   Eigen::AlignedBox3d box(fine.vertices.colwise().minCoeff().transpose(),
                           fine.vertices.colwise().maxCoeff().transpose());
-  double h = settings.first_cell_factor * mean_edge_length(fine);
+  const CubeGrid grid = cube_grid(box, settings.first_cell_factor * mean_edge_length(fine));
   m_positions.push_back(fine.vertices);
   std::vector<std::vector<int>> adjacency = mesh_adjacency(fine);
+  LevelCells cells = fine_cells(fine, grid);
+  std::vector<Eigen::Vector3i> points;  // grid points of the current coarse level's DOFs
+  // Level 0 works in coordinates; coarser levels on integer grid points (exact).
+  const LocalCoordinates fine_local = [&](int v, const Eigen::Vector3i& cube) {
+    return Eigen::Vector3d((fine.vertices.row(v).transpose() - grid.origin) / grid.h -
+                           cube.cast<double>());
+  };
+  const HomeCube fine_home = [&](int v) { return grid.cube_of(fine.vertices.row(v).transpose()); };
+  const LocalCoordinates coarse_local = [&](int v, const Eigen::Vector3i& cube) {
+    return Eigen::Vector3d(0.5 * (points[v] - 2 * cube).cast<double>());
+  };
+  const HomeCube coarse_home = [&](int v) {
+    return Eigen::Vector3i(points[v][0] / 2, points[v][1] / 2, points[v][2] / 2);
+  };
+  double h = grid.h;
   while (vertex_count(level_count() - 1) > settings.max_coarsest_vertices &&
          level_count() < settings.max_levels) {
-    geometry::RegularTetGrid coarse = covering_grid(fine, box, h);
-    Prolongation p = locate(m_positions.back(), m_constrained.back(), coarse, cube_grid(box, h));
-    const std::vector<int> grid_vertex = split_by_components(p, adjacency);
+    const bool first = level_count() == 1;
+    CompositeLevel coarse =
+        composite_coarsening(cells, vertex_count(level_count() - 1), m_constrained.back(),
+                             first ? fine_local : coarse_local, first ? fine_home : coarse_home);
+    Prolongation& p = coarse.prolongation;
+    const std::vector<int> parent = split_by_components(p, adjacency);
     if (p.coarse_vertex_count > 0.75 * vertex_count(level_count() - 1)) break;
     // Coarse vertices with no free fine vertex in their support are constrained.
     std::vector<char> coarse_constrained(p.coarse_vertex_count, 1);
@@ -334,14 +333,23 @@ TetHierarchy::TetHierarchy(const geometry::TetMesh& fine, const std::vector<char
         if (p.weights[v][s] != 0.0) coarse_constrained[p.vertices[v][s]] = 0;
     Eigen::MatrixX3d positions(p.coarse_vertex_count, 3);
     for (int d = 0; d < p.coarse_vertex_count; ++d)
-      positions.row(d) = coarse.mesh.vertices.row(grid_vertex[d]);
+      positions.row(d) = (grid.origin + h * coarse.points[parent[d]].cast<double>()).transpose();
     adjacency = coarse_adjacency(p, adjacency);
+    std::vector<Eigen::Vector3i> sorted = coarse.points;
+    std::sort(sorted.begin(), sorted.end(), [](const Eigen::Vector3i& a, const Eigen::Vector3i& b) {
+      return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+    });
+    m_grid_point_counts.push_back(
+        static_cast<int>(std::unique(sorted.begin(), sorted.end()) - sorted.begin()));
     p.build_transpose();
     m_prolongations.push_back(std::move(p));
     m_constrained.push_back(std::move(coarse_constrained));
-    m_coarse_meshes.push_back(std::move(coarse.mesh));
     m_positions.push_back(std::move(positions));
     m_cell_sizes.push_back(h);
+    points.resize(parent.size());
+    for (std::size_t d = 0; d < parent.size(); ++d) points[d] = coarse.points[parent[d]];
+    cells = split_cells(coarse.cells, parent);
+    assign_parent_cubes(cells, coarse.cell_cubes);
     h *= 2.0;
   }
 }

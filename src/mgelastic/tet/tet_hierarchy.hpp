@@ -80,15 +80,16 @@ class TetHierarchy {
   // Prolongation from level + 1 to level, 0 <= level < level_count() - 1.
   const Prolongation& prolongation(int level) const { return m_prolongations[level]; }
   const std::vector<char>& constrained(int level) const { return m_constrained[level]; }
-  // The regular grid of a coarse level (1 <= level < level_count()).
-  const geometry::TetMesh& coarse_mesh(int level) const { return m_coarse_meshes[level - 1]; }
+  // Distinct grid points among a coarse level's DOFs (1 <= level < level_count()); fewer than
+  // vertex_count(level) where cubes hold several disconnected pieces.
+  int grid_point_count(int level) const { return m_grid_point_counts[level - 1]; }
   double cell_size(int level) const { return m_cell_sizes[level - 1]; }
   // Positions of the level's degrees of freedom (N_l x 3; level 0: the mesh's vertices). A coarse
   // grid vertex split into several DOFs (one per connected part of its support) repeats.
   const Eigen::MatrixX3d& positions(int level) const { return m_positions[level]; }
 
  private:
-  std::vector<geometry::TetMesh> m_coarse_meshes;
+  std::vector<int> m_grid_point_counts;
   std::vector<double> m_cell_sizes;
   std::vector<Eigen::MatrixX3d> m_positions;
   std::vector<Prolongation> m_prolongations;

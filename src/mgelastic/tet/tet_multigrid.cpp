@@ -44,6 +44,8 @@ TetMultigrid::TetMultigrid(const geometry::TetMesh& mesh, const std::vector<char
       m_levels[l].stream = std::make_unique<GalerkinStream>(
           m_levels[l].matrix, m_hierarchy.prolongation(l), m_levels[l + 1].matrix);
   }
+  m_patches =
+      FeaturePatches(mesh, m_hierarchy.constrained(0), m_levels[0].matrix, settings.patches);
   for (int l = 0; l < level_count(); ++l) {
     const int n = 3 * m_hierarchy.vertex_count(l);
     m_levels[l].b.setZero(n);
@@ -122,6 +124,7 @@ void TetMultigrid::finish_coarse_update() {
     }
     if (singular) fail("singular diagonal block on level " + std::to_string(l));
   }
+  m_patches.factor(m_levels[0].matrix);
   // The Galerkin operator can be singular: coarse vertices outside the body whose support is a
   // single fine vertex give linearly dependent columns of P. A relative diagonal shift makes it
   // definite; it changes the correction only along directions that P maps to (almost) zero.
@@ -141,10 +144,19 @@ void TetMultigrid::finish_coarse_update() {
 void TetMultigrid::smooth(int l, const Eigen::VectorXd& b, Eigen::VectorXd& x, bool forward) const {
   const double w =
       m_settings.symmetric_sweeps ? m_settings.symmetric_relaxation : m_settings.relaxation;
+  // Feature patches (fine level) after a forward sweep, before a backward one: symmetric pairs.
+  const bool patches = l == 0 && m_patches.patch_count() > 0;
+  if (patches && !forward) m_patches.pass(m_levels[0].matrix, b, x, false);
   if (!m_settings.lexicographic) {
     m_levels[l].smoother.sweep(m_levels[l].matrix, b, x, forward, w);
-    return;
+  } else {
+    lexicographic_sweep(l, b, x, forward, w);
   }
+  if (patches && forward) m_patches.pass(m_levels[0].matrix, b, x, true);
+}
+
+void TetMultigrid::lexicographic_sweep(int l, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                                       bool forward, double w) const {
   // Block Gauss-Seidel: x_i <- D_i^{-1} (b_i - sum_{j != i} A_ij x_j), rows in order (serial).
   const BlockRowMatrix<double>& a = m_levels[l].matrix;
   const int n = a.block_rows();

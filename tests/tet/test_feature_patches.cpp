@@ -1,0 +1,86 @@
+// Block solves on patches around low-valence vertices (feature_patches.hpp).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "mgelastic/core/error.hpp"
+#include "mgelastic/tet/corotated_assembly.hpp"
+#include "mgelastic/tet/feature_patches.hpp"
+#include "tet/tet_test_support.hpp"
+
+namespace mgelastic::tet {
+namespace {
+
+// A dense 3n x 3n solve of an SPD step matrix: round-off relative to |b|.
+constexpr double kSolveRoundoff = 1e-10;
+
+// Step matrix M + h^2 K of the mesh (h^2 K dominating M).
+BlockRowMatrix<double> step_matrix(const geometry::TetMesh& mesh) {
+  const TetBody body(mesh, ElementMaterials::uniform(mesh.tet_count(), {1e7, 0.3, 1000.0}));
+  RotationField rotations(body, RotationMethod::ENERGY_MINIMIZATION);
+  CorotatedAssembler assembler(body);
+  rotations.update(body.rest_positions() * 1.0);
+  assembler.assemble(rotations);
+  BlockRowMatrix<double> a = assembler.stiffness();
+  for (int k = 0; k < a.block_count(); ++k) a.block(k) *= 1.0 / 3600.0;
+  for (int i = 0; i < a.block_rows(); ++i)
+    a.block(a.diagonal_index(i)).diagonal().array() += body.vertex_mass()[i];
+  return a;
+}
+
+std::vector<int> valences(const geometry::TetMesh& mesh) {
+  std::vector<int> valence(mesh.vertex_count(), 0);
+  for (int t = 0; t < mesh.tet_count(); ++t)
+    for (int a = 0; a < 4; ++a) ++valence[mesh.tets(t, a)];
+  return valence;
+}
+
+TEST(FeaturePatches, SeedsAreFreeLowValenceVerticesWithBoundedFreePatches) {
+  const geometry::TetMesh mesh = test::box_mesh(Eigen::Vector3d(1.0, 0.25, 0.25), 1.0 / 16);
+  std::vector<char> fixed(mesh.vertex_count(), 0);
+  for (int v = 0; v < mesh.vertex_count(); ++v) fixed[v] = mesh.vertices(v, 0) < 1e-9;
+  const BlockRowMatrix<double> a = step_matrix(mesh);
+  const FeaturePatches patches(mesh, fixed, a, {3, 5});
+  const std::vector<int> valence = valences(mesh);
+  int seeds = 0;
+  for (int v = 0; v < mesh.vertex_count(); ++v) seeds += valence[v] <= 3 && fixed[v] == 0;
+  ASSERT_GT(seeds, 0);
+  EXPECT_EQ(patches.patch_count(), seeds);
+  for (int p = 0; p < patches.patch_count(); ++p) {
+    const std::vector<int>& patch = patches.patch(p);
+    EXPECT_LE(valence[patch[0]], 3);
+    EXPECT_LE(patch.size(), 5U);
+    EXPECT_GT(patch.size(), 1U);
+    for (const int v : patch) EXPECT_EQ(fixed[v], 0) << "patch " << p;
+  }
+  EXPECT_EQ(FeaturePatches(mesh, fixed, a, {0, 5}).patch_count(), 0);
+}
+
+// A patch holding every vertex is the exact solve: one pass from zero leaves round-off.
+TEST(FeaturePatches, APatchCoveringTheMeshSolvesExactly) {
+  const geometry::TetMesh mesh = test::box_mesh(Eigen::Vector3d(1.0, 0.25, 0.25), 0.25);
+  const std::vector<char> free(mesh.vertex_count(), 0);
+  BlockRowMatrix<double> a = step_matrix(mesh);
+  FeaturePatches patches(mesh, free, a, {1000, mesh.vertex_count()});
+  ASSERT_GT(patches.patch_count(), 0);
+  ASSERT_EQ(static_cast<int>(patches.patch(0).size()), mesh.vertex_count());
+  patches.factor(a);
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  Eigen::VectorXd b(3 * mesh.vertex_count()), x = Eigen::VectorXd::Zero(b.size()), ax;
+  for (int i = 0; i < b.size(); ++i) b[i] = uniform(rng);
+  patches.pass(a, b, x, true);
+  a.multiply(x, ax);
+  EXPECT_LE((b - ax).norm(), kSolveRoundoff * b.norm());
+}
+
+TEST(FeaturePatches, RejectsAnEmptyPatchSize) {
+  const geometry::TetMesh mesh = test::box_mesh(Eigen::Vector3d(1.0, 0.25, 0.25), 0.25);
+  EXPECT_THROW(
+      FeaturePatches(mesh, std::vector<char>(mesh.vertex_count(), 0), step_matrix(mesh), {3, 0}),
+      Error);
+}
+
+}  // namespace
+}  // namespace mgelastic::tet
