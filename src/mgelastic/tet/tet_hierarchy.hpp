@@ -28,7 +28,9 @@
 // Split DOFs: a coarse grid vertex whose support (the finer vertices with non-zero weight) falls
 // into several parts not connected through the finer level's matrix graph (a cube straddling a
 // gap between two parts of the body) becomes one DOF per part, at the same position, so the
-// coarse space does not tie separate parts together. Convex bodies have no splits.
+// coarse space does not tie separate parts together. Convex bodies have no splits. Before that
+// split, each coarse cube gets one copy of its corners per connected piece of the fine elements
+// it overlaps (composite_coarsening.hpp); corner copies no fine vertex uses are dropped.
 //
 // Levels: coarse levels are added until one has <= `max_coarsest_vertices` vertices (or
 // `max_levels` is reached, or a coarsening no longer shrinks the vertex count by 1/4).
