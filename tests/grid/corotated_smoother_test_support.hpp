@@ -4,11 +4,13 @@
 // V-cycle after k = 1 Picard cycles from rest.
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <ctime>
 #include <vector>
 
 #include "dynamics_test_support.hpp"
+#include "mgelastic/core/threads.hpp"
 #include "mgelastic/core/timer.hpp"
 #include "mgelastic/grid/corotated_multigrid.hpp"
 
@@ -72,6 +74,22 @@ inline Measured measure(const ElasticityProblem<3>& problem, CorotatedOptions op
   const double frozen_seconds =
       static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC / frozen_cycles;
   return {mean_rate(nonlinear), mean_rate(frozen), seconds, frozen_seconds};
+}
+
+// The finest unknowns after `cycles` run_cycles of a co-rotated multigrid built with 1 and with 2
+// threads (index = threads - 1), for thread-count independence checks.
+inline std::array<std::array<std::vector<double>, 4>, 2> solutions_with_one_and_two_threads(
+    const ElasticityProblem<3>& problem, const CorotatedOptions& options, int cycles) {
+  const int saved = thread_count();
+  std::array<std::array<std::vector<double>, 4>, 2> x;
+  for (int threads : {1, 2}) {
+    set_thread_count(threads);
+    CorotatedMultigrid<3> corotated(problem, {}, options);
+    corotated.run_cycles(cycles);
+    x[threads - 1] = corotated.solution_level().x;
+  }
+  set_thread_count(saved);
+  return x;
 }
 
 }  // namespace mgelastic::grid::test

@@ -66,15 +66,7 @@ TEST(CorotatedBandSmoother, CyclesDoNotDependOnTheThreadCount) {
   options.smoother = CorotatedSmoother::DISTRIBUTIVE;
   options.band = CorotatedBand::SCHUR;
   options.rotation_update_every = 1;
-  const int saved = thread_count();
-  std::array<std::array<std::vector<double>, 4>, 2> x;
-  for (int threads : {1, 2}) {
-    set_thread_count(threads);
-    CorotatedMultigrid<3> corotated(problem, {}, options);
-    corotated.run_cycles(2);
-    x[threads - 1] = corotated.solution_level().x;
-  }
-  set_thread_count(saved);
+  const auto x = test::solutions_with_one_and_two_threads(problem, options, 2);
   EXPECT_EQ(x[0], x[1]);
 }
 

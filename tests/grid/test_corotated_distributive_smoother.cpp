@@ -64,15 +64,7 @@ TEST(CorotatedDistributiveSmoother, CyclesDoNotDependOnTheThreadCount) {
   CorotatedOptions options;
   options.smoother = CorotatedSmoother::DISTRIBUTIVE;
   options.rotation_update_every = 1;
-  const int saved = thread_count();
-  std::array<std::array<std::vector<double>, 4>, 2> x;
-  for (int threads : {1, 2}) {
-    set_thread_count(threads);
-    CorotatedMultigrid<3> corotated(problem, {}, options);
-    corotated.run_cycles(1);
-    x[threads - 1] = corotated.solution_level().x;
-  }
-  set_thread_count(saved);
+  const auto x = test::solutions_with_one_and_two_threads(problem, options, 1);
   EXPECT_EQ(x[0], x[1]);
 }
 

@@ -333,6 +333,19 @@ double CorotatedMultigrid<Dim>::nonlinear_residual() {
   return residual;
 }
 
+// Refreshes the rotations once k cycles have passed, reusing the rows of the last non-linear
+// residual when it left them; the cache is dropped either way (the next cycle moves x).
+template <int Dim>
+void CorotatedMultigrid<Dim>::refresh_rotations_when_due() {
+  if (m_cycles_since_refresh >= m_options.rotation_update_every) {
+    if (m_fresh)
+      refresh_rotations(std::move(*m_fresh));
+    else
+      refresh_rotations();
+  }
+  m_fresh.reset();
+}
+
 template <int Dim>
 double CorotatedMultigrid<Dim>::vcycle() {
   m_fresh.reset();
@@ -341,13 +354,7 @@ double CorotatedMultigrid<Dim>::vcycle() {
 
 template <int Dim>
 double CorotatedMultigrid<Dim>::solve_cycle() {
-  if (m_cycles_since_refresh >= m_options.rotation_update_every) {
-    if (m_fresh)
-      refresh_rotations(std::move(*m_fresh));
-    else
-      refresh_rotations();
-  }
-  m_fresh.reset();
+  refresh_rotations_when_due();
   correct(0);
   ++m_cycles_since_refresh;
   return quasi_linear_residual();
@@ -453,13 +460,7 @@ int CorotatedMultigrid<Dim>::newton_krylov_step(int directions, double target,
                                                 CorotatedReport& report) {
   // The rotations only precondition (the Jacobian products use the true residual), so they
   // are refreshed every k cycles as in the Picard iteration.
-  if (m_cycles_since_refresh >= m_options.rotation_update_every) {
-    if (m_fresh)
-      refresh_rotations(std::move(*m_fresh));
-    else
-      refresh_rotations();
-  }
-  m_fresh.reset();
+  refresh_rotations_when_due();
   // The traction variables of x from the current rotations, as at every evaluation below (the
   // finite differences must not see a change of the rotations).
   const Eigen::VectorXd x = gather_unknowns();

@@ -157,6 +157,7 @@ class CorotatedMultigrid {
   void build_level_system(int l);
   void build_level_system(int l, CorotatedRows rows);
   void refresh_rotations(FreshRows fresh);
+  void refresh_rotations_when_due();
   // One cycle of solve(): refreshes with the rows of the last non-linear residual when due.
   double solve_cycle();
   double accelerated_cycle(AndersonMixing& anderson, double previous, double& quasi_linear);
