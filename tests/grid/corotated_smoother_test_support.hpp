@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <ctime>
+#include <utility>
 #include <vector>
 
 #include "dynamics_test_support.hpp"
@@ -40,6 +41,30 @@ inline void fill_pseudo_random(std::vector<double>& values, std::uint32_t seed, 
     seed = seed * 1664525u + 1013904223u;
     v = scale * (static_cast<double>(seed >> 8) / (1u << 24) - 0.5);
   }
+}
+
+// A finest level of `problem` with pseudo-random unknowns and right-hand side, for comparing a
+// co-rotated sweep at R = I with the linear engine's on the same values.
+inline Level<3, double> random_level(const ElasticityProblem<3>& problem, double inertia) {
+  Level<3, double> level = build_level<3, double>(problem.lattice, problem.cells, problem.material,
+                                                  {}, nullptr, inertia);
+  for (int f = 0; f < 4; ++f) {
+    fill_pseudo_random(level.x[f], 11 + f, 0.02);
+    fill_pseudo_random(level.b[f], 31 + f, 1.0);
+  }
+  return level;
+}
+
+// max |a.x - b.x| and max |a.x| over all fields.
+inline std::pair<double, double> max_difference(const Level<3, double>& a,
+                                                const Level<3, double>& b) {
+  double worst = 0, largest = 0;
+  for (int f = 0; f < 4; ++f)
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      worst = std::max(worst, std::abs(a.x[f][k] - b.x[f][k]));
+      largest = std::max(largest, std::abs(a.x[f][k]));
+    }
+  return {worst, largest};
 }
 
 inline double mean_rate(const std::vector<double>& residuals) {

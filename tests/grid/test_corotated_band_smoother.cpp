@@ -15,8 +15,6 @@
 namespace mgelastic::grid {
 namespace {
 
-using test::fill_pseudo_random;
-
 // At R = I the co-rotated band rows, Schur pivots and cell blocks are the linear ones, so a
 // pass (exact pressure update, then sweeps over the same colored schedule) moves every variable
 // as band_gauss_seidel does, up to round-off (the rows sum their terms in another order).
@@ -24,24 +22,14 @@ TEST(CorotatedBandSmoother, EqualsTheLinearBandSmootherAtIdentityRotations) {
   for (const double inertia : {0.0, 40.0})
     for (const bool cantilever : {true, false}) {
       const ElasticityProblem<3> problem = test::end_clamped_bar(32, 0.475, cantilever);
-      Level<3, double> linear = build_level<3, double>(problem.lattice, problem.cells,
-                                                       problem.material, {}, nullptr, inertia);
-      for (int f = 0; f < 4; ++f) {
-        fill_pseudo_random(linear.x[f], 11 + f, 0.02);
-        fill_pseudo_random(linear.b[f], 31 + f, 1.0);
-      }
+      Level<3, double> linear = test::random_level(problem, inertia);
       Level<3, double> corotated = linear;
       const std::vector<Matrix<3>> identity(linear.size(), Matrix<3>::Identity());
       const CorotatedRows rows = build_corotated_rows(corotated, identity, {}, false);
       const CorotatedBandSmoother<3> smoother(corotated, rows);
       band_gauss_seidel(linear, 3);
       smoother.sweep(corotated, rows, 3);
-      double worst = 0, largest = 0;
-      for (int f = 0; f < 4; ++f)
-        for (std::size_t k = 0; k < linear.size(); ++k) {
-          worst = std::max(worst, std::abs(linear.x[f][k] - corotated.x[f][k]));
-          largest = std::max(largest, std::abs(linear.x[f][k]));
-        }
+      const auto [worst, largest] = test::max_difference(linear, corotated);
       std::printf(
           "inertia %g, %s: %zu band rows (linear %zu), %zu eliminated pressures (linear %zu), "
           "%zu cell blocks (linear %zu); max |x_linear - x_corotated| %.3g (max |x| %.3g)\n",

@@ -20,7 +20,6 @@ namespace {
 
 using test::bent_cantilever;
 using test::end_clamped_bar;
-using test::fill_pseudo_random;
 using test::measure;
 using test::Measured;
 using test::twisted_bar;
@@ -31,24 +30,14 @@ using test::twisted_bar;
 TEST(CorotatedDistributiveSmoother, EqualsTheLinearDistributiveSweepAtIdentityRotations) {
   for (const double inertia : {0.0, 40.0}) {
     const ElasticityProblem<3> problem = end_clamped_bar(32, 0.45, true);
-    Level<3, double> linear = build_level<3, double>(problem.lattice, problem.cells,
-                                                     problem.material, {}, nullptr, inertia);
-    for (int f = 0; f < 4; ++f) {
-      fill_pseudo_random(linear.x[f], 11 + f, 0.02);
-      fill_pseudo_random(linear.b[f], 31 + f, 1.0);
-    }
+    Level<3, double> linear = test::random_level(problem, inertia);
     Level<3, double> corotated = linear;
     const std::vector<Matrix<3>> identity(linear.size(), Matrix<3>::Identity());
     const CorotatedRows rows = build_corotated_rows(corotated, identity, {}, false);
     const CorotatedDistributiveSmoother<3> smoother(corotated, rows);
     distributive_sweep(linear);
     smoother.sweep(corotated, rows);
-    double worst = 0, largest = 0;
-    for (int f = 0; f < 4; ++f)
-      for (std::size_t k = 0; k < linear.size(); ++k) {
-        worst = std::max(worst, std::abs(linear.x[f][k] - corotated.x[f][k]));
-        largest = std::max(largest, std::abs(linear.x[f][k]));
-      }
+    const auto [worst, largest] = test::max_difference(linear, corotated);
     std::printf("inertia %g: %zu rows relaxed, max |x_linear - x_corotated| %.3g (max |x| %.3g)\n",
                 inertia, smoother.relaxed_rows(), worst, largest);
     EXPECT_GT(smoother.relaxed_rows(), 1000u);

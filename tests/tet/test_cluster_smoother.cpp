@@ -8,6 +8,7 @@
 #include "mgelastic/core/threads.hpp"
 #include "mgelastic/tet/cluster_smoother.hpp"
 #include "mgelastic/tet/corotated_assembly.hpp"
+#include "tet/step_matrix_test_support.hpp"
 #include "tet/tet_test_support.hpp"
 
 namespace mgelastic::tet {
@@ -15,17 +16,7 @@ namespace {
 
 // Step matrix M + h^2 K of a box (stiff enough that h^2 K dominates M).
 BlockRowMatrix<double> box_step_matrix(double h) {
-  const geometry::TetMesh mesh = test::box_mesh(Eigen::Vector3d(1.0, 0.5, 0.5), h);
-  const TetBody body(mesh, ElementMaterials::uniform(mesh.tet_count(), {1e7, 0.3, 1000.0}));
-  RotationField rotations(body, RotationMethod::ENERGY_MINIMIZATION);
-  CorotatedAssembler assembler(body);
-  rotations.update(body.rest_positions() * 1.0);
-  assembler.assemble(rotations);
-  BlockRowMatrix<double> a = assembler.stiffness();
-  for (int k = 0; k < a.block_count(); ++k) a.block(k) *= 1.0 / 3600.0;
-  for (int i = 0; i < a.block_rows(); ++i)
-    a.block(a.diagonal_index(i)).diagonal().array() += body.vertex_mass()[i];
-  return a;
+  return test::stiff_step_matrix(test::box_mesh(Eigen::Vector3d(1.0, 0.5, 0.5), h));
 }
 
 Eigen::VectorXd random_vector(int size, unsigned seed) {

@@ -7,6 +7,7 @@
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/tet/corotated_assembly.hpp"
 #include "mgelastic/tet/feature_patches.hpp"
+#include "tet/step_matrix_test_support.hpp"
 #include "tet/tet_test_support.hpp"
 
 namespace mgelastic::tet {
@@ -14,20 +15,6 @@ namespace {
 
 // A dense 3n x 3n solve of an SPD step matrix: round-off relative to |b|.
 constexpr double kSolveRoundoff = 1e-10;
-
-// Step matrix M + h^2 K of the mesh (h^2 K dominating M).
-BlockRowMatrix<double> step_matrix(const geometry::TetMesh& mesh) {
-  const TetBody body(mesh, ElementMaterials::uniform(mesh.tet_count(), {1e7, 0.3, 1000.0}));
-  RotationField rotations(body, RotationMethod::ENERGY_MINIMIZATION);
-  CorotatedAssembler assembler(body);
-  rotations.update(body.rest_positions() * 1.0);
-  assembler.assemble(rotations);
-  BlockRowMatrix<double> a = assembler.stiffness();
-  for (int k = 0; k < a.block_count(); ++k) a.block(k) *= 1.0 / 3600.0;
-  for (int i = 0; i < a.block_rows(); ++i)
-    a.block(a.diagonal_index(i)).diagonal().array() += body.vertex_mass()[i];
-  return a;
-}
 
 std::vector<int> valences(const geometry::TetMesh& mesh) {
   std::vector<int> valence(mesh.vertex_count(), 0);
@@ -40,7 +27,7 @@ TEST(FeaturePatches, SeedsAreFreeLowValenceVerticesWithBoundedFreePatches) {
   const geometry::TetMesh mesh = test::box_mesh(Eigen::Vector3d(1.0, 0.25, 0.25), 1.0 / 16);
   std::vector<char> fixed(mesh.vertex_count(), 0);
   for (int v = 0; v < mesh.vertex_count(); ++v) fixed[v] = mesh.vertices(v, 0) < 1e-9;
-  const BlockRowMatrix<double> a = step_matrix(mesh);
+  const BlockRowMatrix<double> a = test::stiff_step_matrix(mesh);
   const FeaturePatches patches(mesh, fixed, a, {3, 5});
   const std::vector<int> valence = valences(mesh);
   int seeds = 0;
@@ -61,7 +48,7 @@ TEST(FeaturePatches, SeedsAreFreeLowValenceVerticesWithBoundedFreePatches) {
 TEST(FeaturePatches, APatchCoveringTheMeshSolvesExactly) {
   const geometry::TetMesh mesh = test::box_mesh(Eigen::Vector3d(1.0, 0.25, 0.25), 0.25);
   const std::vector<char> free(mesh.vertex_count(), 0);
-  BlockRowMatrix<double> a = step_matrix(mesh);
+  BlockRowMatrix<double> a = test::stiff_step_matrix(mesh);
   FeaturePatches patches(mesh, free, a, {1000, mesh.vertex_count()});
   ASSERT_GT(patches.patch_count(), 0);
   ASSERT_EQ(static_cast<int>(patches.patch(0).size()), mesh.vertex_count());
@@ -77,9 +64,9 @@ TEST(FeaturePatches, APatchCoveringTheMeshSolvesExactly) {
 
 TEST(FeaturePatches, RejectsAnEmptyPatchSize) {
   const geometry::TetMesh mesh = test::box_mesh(Eigen::Vector3d(1.0, 0.25, 0.25), 0.25);
-  EXPECT_THROW(
-      FeaturePatches(mesh, std::vector<char>(mesh.vertex_count(), 0), step_matrix(mesh), {3, 0}),
-      Error);
+  EXPECT_THROW(FeaturePatches(mesh, std::vector<char>(mesh.vertex_count(), 0),
+                              test::stiff_step_matrix(mesh), {3, 0}),
+               Error);
 }
 
 }  // namespace
