@@ -6,6 +6,7 @@
 #include <numeric>
 #include <vector>
 
+#include "mgelastic/core/disjoint_sets.hpp"
 #include "mgelastic/core/error.hpp"
 
 namespace mgelastic::geometry {
@@ -50,11 +51,6 @@ void count_edges(const TriangleMesh& mesh, MeshFacts& facts) {
   facts.closed = facts.boundary_edges == 0;
   facts.manifold = facts.non_manifold_edges == 0;
   facts.consistently_oriented = facts.inconsistent_edges == 0;
-}
-
-int find_root(std::vector<int>& parent, int v) {
-  while (parent[v] != v) v = parent[v] = parent[parent[v]];  // path halving
-  return v;
 }
 
 int count_components(const TriangleMesh& mesh) {

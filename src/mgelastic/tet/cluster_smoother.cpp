@@ -8,6 +8,7 @@
 #include <string>
 #include <tuple>
 
+#include "mgelastic/core/disjoint_sets.hpp"
 #include "mgelastic/core/error.hpp"
 
 namespace mgelastic::tet {
@@ -22,11 +23,6 @@ constexpr int kMinParallelClusters = 4096;
 
 // A merged cluster keeps its joint block only when it is this well conditioned.
 constexpr double kMinClusterConditioning = 1e-8;
-
-int find_root(std::vector<int>& parent, int v) {
-  while (parent[v] != v) v = parent[v] = parent[parent[v]];
-  return v;
-}
 
 // Dense cluster blocks and vectors without heap allocation.
 constexpr int kMaxClusterSize = 4;

@@ -4,10 +4,10 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <numeric>
 #include <string>
 #include <utility>
 
+#include "mgelastic/core/disjoint_sets.hpp"
 #include "mgelastic/core/error.hpp"
 
 namespace mgelastic::tet {
@@ -15,25 +15,6 @@ namespace {
 
 // Weights below this (relative to 1) are round-off of a vertex lying on a face/edge/corner.
 constexpr double kZeroWeight = 1e-12;
-
-class DisjointSets {
- public:
-  explicit DisjointSets(int n) : m_parent(n) { std::iota(m_parent.begin(), m_parent.end(), 0); }
-  int find(int a) {
-    while (m_parent[a] != a) a = m_parent[a] = m_parent[m_parent[a]];
-    return a;
-  }
-  // The smaller index becomes the root, so roots (and the numbering built on them) do not depend
-  // on the order of the unions.
-  void unite(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) m_parent[std::max(a, b)] = std::min(a, b);
-  }
-
- private:
-  std::vector<int> m_parent;
-};
 
 // Grid indices are < 2^21 per axis (the covering grids are far smaller).
 long long key(const Eigen::Vector3i& c) {

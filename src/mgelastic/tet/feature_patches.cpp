@@ -69,7 +69,7 @@ void FeaturePatches::factor(const BlockRowMatrix<double>& a) {
 void FeaturePatches::pass(const BlockRowMatrix<double>& a, const Eigen::VectorXd& b,
                           Eigen::VectorXd& x, bool forward) const {
   const int count = patch_count();
-  Eigen::VectorXd r;
+  Eigen::VectorXd r, d;  // reused: patches have at most max_size vertices
   for (int q = 0; q < count; ++q) {
     const int p = forward ? q : count - 1 - q;
     const std::vector<int>& patch = m_patches[p];
@@ -80,7 +80,7 @@ void FeaturePatches::pass(const BlockRowMatrix<double>& a, const Eigen::VectorXd
         ri.noalias() -= a.block(k) * x.segment<3>(3 * a.block_columns()[k]);
       r.segment<3>(3 * static_cast<Eigen::Index>(i)) = ri;
     }
-    const Eigen::VectorXd d = m_inverses[p] * r;
+    d.noalias() = m_inverses[p] * r;
     for (std::size_t i = 0; i < patch.size(); ++i)
       x.segment<3>(3 * patch[i]) += d.segment<3>(3 * static_cast<Eigen::Index>(i));
   }
