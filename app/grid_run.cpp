@@ -339,6 +339,36 @@ grid::MultigridOptions multigrid_options(const scene::Scene& s) {
   return options;
 }
 
+// Checkpoint state of a co-rotated run beyond the unknowns (CorotatedCarriedState): the finest
+// rotations the frozen rows were built from ("grid.rotations"), the cycles since their refresh
+// ("grid.corotated_cycles"), the Newton step's recycled corrections ("grid.recycled0", ...).
+void add_corotated(io::Checkpoint& c, const grid::CorotatedMultigrid<3>& solver) {
+  const grid::CorotatedCarriedState<3> state = solver.carried_state();
+  c.add<double>("grid.rotations", state.rotations);
+  const std::vector<std::int64_t> counters{state.cycles_since_refresh,
+                                           static_cast<std::int64_t>(state.recycled.size())};
+  c.add<std::int64_t>("grid.corotated_cycles", counters);
+  for (std::size_t i = 0; i < state.recycled.size(); ++i)
+    c.add<double>("grid.recycled" + std::to_string(i),
+                  std::span<const double>(state.recycled[i].data(), state.recycled[i].size()));
+}
+
+void restore_corotated(const io::Checkpoint& c, grid::CorotatedMultigrid<3>& solver) {
+  grid::CorotatedCarriedState<3> state;
+  state.rotations = c.get<double>("grid.rotations");
+  const auto counters = c.get<std::int64_t>("grid.corotated_cycles", 2);
+  state.cycles_since_refresh = static_cast<int>(counters[0]);
+  for (std::int64_t i = 0; i < counters[1]; ++i) {
+    const auto z = c.get<double>("grid.recycled" + std::to_string(i));
+    state.recycled.emplace_back(Eigen::Map<const Eigen::VectorXd>(z.data(), z.size()));
+  }
+  try {
+    solver.restore_carried_state(state);
+  } catch (const Error& e) {
+    throw Error(e.reason(), ErrorContext{.file = c.source});
+  }
+}
+
 double reduction(const std::vector<double>& residuals) {
   return residuals.front() > 0 ? residuals.back() / residuals.front() : 0.0;
 }
@@ -357,7 +387,7 @@ void simulate_corotated(const scene::Scene& s, const scene::GridSetup& setup,
   std::vector<io::SeriesEntry> series;
   if (const io::Checkpoint* resume = checkpoints.resume_from()) {
     restore_grid(*resume, mg, series);
-    solver.refresh_rotations();
+    restore_corotated(*resume, solver);
     std::printf("resumed from %s: frame %d (t = %.6g s) done\n", resume->source.c_str(),
                 resume->frame, resume->time);
   }
@@ -387,7 +417,11 @@ void simulate_corotated(const scene::Scene& s, const scene::GridSetup& setup,
                   time, report.cycles(), relative, reduction(report.quasi_linear),
                   report.converged ? "" : " (NOT converged)");
     if (finish_frame(mg, setup, s, dir, frame, time, status, series, totals, progress, checkpoints,
-                     [&] { return grid_checkpoint(checkpoints, mg, frame, time, series); }))
+                     [&] {
+                       io::Checkpoint c = grid_checkpoint(checkpoints, mg, frame, time, series);
+                       add_corotated(c, solver);
+                       return c;
+                     }))
       break;
   }
   progress.finish();
@@ -433,6 +467,7 @@ void simulate_corotated_dynamic(const scene::Scene& s, const scene::GridSetup& s
     io::Checkpoint c = grid_checkpoint(checkpoints, mg, frame, sim.time(), series);
     const auto& v = sim.velocity();
     for (std::size_t f = 0; f < v.size(); ++f) c.add<double>("grid.v" + std::to_string(f), v[f]);
+    add_corotated(c, sim.multigrid());
     return c;
   };
   if (const io::Checkpoint* resume = checkpoints.resume_from()) {
@@ -442,7 +477,7 @@ void simulate_corotated_dynamic(const scene::Scene& s, const scene::GridSetup& s
       v[f] =
           resume->get<double>("grid.v" + std::to_string(f), static_cast<std::int64_t>(v[f].size()));
     sim.set_time(resume->time);
-    sim.multigrid().refresh_rotations();
+    restore_corotated(*resume, sim.multigrid());
     std::printf("resumed from %s: frame %d (t = %.6g s) done\n", resume->source.c_str(),
                 resume->frame, resume->time);
   }

@@ -139,5 +139,7 @@ CorotatedReport CorotatedMultigrid<Dim>::solve_with_load_steps(double relative_t
 
 template CorotatedReport CorotatedMultigrid<2>::solve_with_load_steps(double, int);
 template CorotatedReport CorotatedMultigrid<3>::solve_with_load_steps(double, int);
+template CorotatedMultigrid<2>::Load CorotatedMultigrid<2>::current_load() const;
+template CorotatedMultigrid<3>::Load CorotatedMultigrid<3>::current_load() const;
 
 }  // namespace mgelastic::grid

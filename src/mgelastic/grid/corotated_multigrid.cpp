@@ -552,6 +552,44 @@ CorotatedReport CorotatedMultigrid<Dim>::solve(double relative_tolerance, int ma
   return report;
 }
 
+template <int Dim>
+CorotatedCarriedState<Dim> CorotatedMultigrid<Dim>::carried_state() const {
+  CorotatedCarriedState<Dim> state;
+  state.rotations.reserve(m_rotations[0].size() * Dim * Dim);
+  for (const Matrix<Dim>& r : m_rotations[0])
+    state.rotations.insert(state.rotations.end(), r.data(), r.data() + Dim * Dim);
+  state.cycles_since_refresh = m_cycles_since_refresh;
+  state.recycled.assign(m_recycled.begin(), m_recycled.end());
+  return state;
+}
+
+template <int Dim>
+void CorotatedMultigrid<Dim>::restore_carried_state(const CorotatedCarriedState<Dim>& state) {
+  const std::size_t cells = m_rotations[0].size();
+  const auto unknowns = static_cast<Eigen::Index>(gather_unknowns().size());
+  if (state.rotations.size() != cells * Dim * Dim)
+    throw Error("co-rotated state: " + std::to_string(state.rotations.size()) +
+                " rotation entries for " + std::to_string(cells) + " cells of " +
+                std::to_string(Dim) + " x " + std::to_string(Dim));
+  if (state.cycles_since_refresh < 0)
+    throw Error("co-rotated state: negative cycle count since the last rotation refresh");
+  for (const Eigen::VectorXd& z : state.recycled)
+    if (z.size() != unknowns)
+      throw Error("co-rotated state: a recycled correction has " + std::to_string(z.size()) +
+                  " entries, the hierarchy " + std::to_string(unknowns) + " unknowns");
+  FreshRows fresh;
+  fresh.rotations.resize(cells);
+  for (std::size_t c = 0; c < cells; ++c)
+    fresh.rotations[c] = Eigen::Map<const Matrix<Dim>>(state.rotations.data() + c * Dim * Dim);
+  fresh.rows =
+      build_corotated_rows(m_multigrid.level(0), fresh.rotations, m_sigma, false, m_options.stress);
+  refresh_rotations(std::move(fresh));
+  m_cycles_since_refresh = state.cycles_since_refresh;
+  m_recycled.assign(state.recycled.begin(), state.recycled.end());
+  m_fresh.reset();
+  m_equilibrium = current_load();
+}
+
 template class CorotatedMultigrid<2>;
 template class CorotatedMultigrid<3>;
 

@@ -44,8 +44,8 @@ enum class CorotatedSmoother { BOX, DISTRIBUTIVE };
 // may mix them with Anderson acceleration). NEWTON_KRYLOV: Newton steps on the true non-linear
 // residual, each direction one frozen V-cycle (the preconditioner; its rotations refreshed
 // every k cycles), plus the last steps' corrections, combined by minimal residual with
-// finite-difference Jacobian products (corotated_newton_krylov.hpp). Not bit-reproducible
-// across a checkpoint/resume: the recycled corrections are not part of the state.
+// finite-difference Jacobian products (corotated_newton_krylov.hpp). The recycled corrections
+// are part of CorotatedMultigrid::CarriedState, so a checkpointed run resumes bit for bit.
 enum class CorotatedOuter { PICARD, NEWTON_KRYLOV };
 
 // Band of the DISTRIBUTIVE smoother. SCHUR: Gauss-Seidel on the band's Schur complement with
@@ -82,6 +82,18 @@ struct CorotatedReport {
   bool converged = false;
   int load_increments = 1;  // solve_with_load_steps: increments of the accepted attempt
   int cycles() const { return static_cast<int>(nonlinear.size()) - 1; }
+};
+
+// What later cycles read besides the finest unknowns (checkpoints, app/grid_run.cpp): the frozen
+// rows are a function of the rotations they were built from, which lag the displacement by up to
+// k cycles, so those rotations, the cycles since their refresh and the Newton step's recycled
+// corrections decide the next cycles. The rest (coarse levels' rotations, rows, smoother blocks,
+// coarsest factor) is rebuilt from them; the load-stepping start is the current load.
+template <int Dim>
+struct CorotatedCarriedState {
+  std::vector<double> rotations;  // finest cells' R, Dim x Dim each, column-major
+  int cycles_since_refresh = 0;
+  std::vector<Eigen::VectorXd> recycled;  // oldest first
 };
 
 template <int Dim>
@@ -127,6 +139,13 @@ class CorotatedMultigrid {
   CorotatedReport solve_with_load_steps(double relative_tolerance, int max_cycles);
   static constexpr int kMaxLoadIncrements = 64;
   static constexpr double kIncrementGrowth = 100.0;
+
+  CorotatedCarriedState<Dim> carried_state() const;
+  // After the finest unknowns were restored (solution_level().x, Dirichlet and traction values
+  // included): rebuilds every level's system from the carried rotations, exactly as the run that
+  // saved it had them, and takes the current load as the equilibrium load stepping starts from.
+  // Throws Error when the arrays do not fit this hierarchy.
+  void restore_carried_state(const CorotatedCarriedState<Dim>& state);
 
   int levels() const { return m_multigrid.levels(); }
   std::size_t unknowns() const { return m_multigrid.unknowns(); }
