@@ -85,8 +85,10 @@ void add_correction(const Level<Dim, Scalar>& fine, Level<Dim, double>& solution
     const Scalar* e = fine.x[f].data();
     double* x = solution.x[f].data();
 #pragma omp parallel for schedule(static)
+    // The add always runs and only its operand is selected (a conditional add would be a branch
+    // under -ftrapping-math and keep the loop scalar); x + 0 leaves every other x as it was.
     for (std::ptrdiff_t k = 0; k < size; ++k)
-      if (kind[k] == VarKind::INTERIOR) x[k] += e[k];
+      x[k] += kind[k] == VarKind::INTERIOR ? static_cast<double>(e[k]) : 0.0;
   }
 }
 
