@@ -153,9 +153,8 @@ std::vector<Step<Dim>> block_steps(const Level<Dim, Scalar>& level,
 template <int Dim, typename Scalar>
 std::size_t BandRuns<Dim, Scalar>::bytes() const {
   std::size_t total = vector_bytes(shapes) + vector_bytes(runs) + vector_bytes(rows);
-  for (const Schedule* items : {&schedule, &pre_restriction, &post_prolongation})
-    for (const auto& color : *items)
-      for (const auto& block : color) total += vector_bytes(block);
+  for (const auto& color : schedule)
+    for (const auto& block : color) total += vector_bytes(block);
   return total;
 }
 
@@ -165,9 +164,8 @@ void build_band_runs(Level<Dim, Scalar>& level) {
   std::unordered_map<std::string, std::uint32_t> ids;
   std::string key;
   // Appends a block's items: runs of >= kBandRunMinLength equally shaped steps one cell apart
-  // along x, the other steps one by one. `count` adds to the coverage figures.
-  auto add_items = [&](const std::vector<Step<Dim>>& steps, std::vector<std::uint32_t>& items,
-                       bool count) {
+  // along x, the other steps one by one.
+  auto add_items = [&](const std::vector<Step<Dim>>& steps, std::vector<std::uint32_t>& items) {
     std::vector<std::uint32_t> shape_of(steps.size());
     for (std::size_t i = 0; i < steps.size(); ++i) {
       shape_key(level, steps[i], key);
@@ -184,13 +182,11 @@ void build_band_runs(Level<Dim, Scalar>& level) {
         ++end;
       const auto length = static_cast<int>(end - i);
       const bool run = length >= kBandRunMinLength;
-      if (count) {
-        runs.steps += length;
-        runs.row_relaxations += static_cast<std::size_t>(length) * shape.members;
-        if (run) {
-          runs.steps_in_runs += length;
-          runs.row_relaxations_in_runs += static_cast<std::size_t>(length) * shape.members;
-        }
+      runs.steps += length;
+      runs.row_relaxations += static_cast<std::size_t>(length) * shape.members;
+      if (run) {
+        runs.steps_in_runs += length;
+        runs.row_relaxations_in_runs += static_cast<std::size_t>(length) * shape.members;
       }
       if (run) {
         items.push_back(static_cast<std::uint32_t>(BandItem::RUN) |
@@ -218,21 +214,9 @@ void build_band_runs(Level<Dim, Scalar>& level) {
     runs.schedule[c].resize(level.band_schedule[c].size());
     for (std::size_t w = 0; w < level.band_schedule[c].size(); ++w) {
       const auto& work = level.band_schedule[c][w];
-      add_items(block_steps(level, work.cell_blocks, work.point_rows), runs.schedule[c][w], true);
+      add_items(block_steps(level, work.cell_blocks, work.point_rows), runs.schedule[c][w]);
     }
   }
-  // The Fig. 8 relocation sweeps relax their rows point by point in band_u order.
-  const std::vector<std::uint32_t> none;
-  auto add_row_schedule = [&](const typename Level<Dim, Scalar>::RowSchedule& rows,
-                              typename BandRuns<Dim, Scalar>::Schedule& items) {
-    for (int c = 0; c < (1 << Dim); ++c) {
-      items[c].resize(rows[c].size());
-      for (std::size_t w = 0; w < rows[c].size(); ++w)
-        add_items(block_steps(level, none, rows[c][w]), items[c][w], false);
-    }
-  };
-  add_row_schedule(level.pre_restriction_schedule, runs.pre_restriction);
-  add_row_schedule(level.post_prolongation_schedule, runs.post_prolongation);
   runs.band_rows = level.band_u.rows();
   level.band_runs = std::move(runs);
 }

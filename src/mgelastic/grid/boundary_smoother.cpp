@@ -175,22 +175,10 @@ void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps,
   for_each_block([&](const std::vector<std::uint32_t>& rows) {
     for (std::uint32_t m : rows) rhs[m] = row_rhs(level, level.band_u, m);
   });
-  // The relocation schedules' runs (band_runs.hpp), when this is one of them.
-  const BandRuns<Dim, Scalar>& runs = level.band_runs;
-  const typename BandRuns<Dim, Scalar>::Schedule* items = nullptr;
-  if (runs.valid_for(level.band_u.rows())) {
-    if (&schedule == &level.pre_restriction_schedule) items = &runs.pre_restriction;
-    if (&schedule == &level.post_prolongation_schedule) items = &runs.post_prolongation;
-  }
-  for (int sweep = 0; sweep < sweeps; ++sweep) {
-    if (items) {
-      relax_items(level, band, *items);
-      continue;
-    }
+  for (int sweep = 0; sweep < sweeps; ++sweep)
     for_each_block([&](const std::vector<std::uint32_t>& rows) {
       for (std::uint32_t m : rows) band.relax_row(m);
     });
-  }
 }
 
 template <int Dim, typename Scalar>
