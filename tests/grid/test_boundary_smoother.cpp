@@ -207,5 +207,59 @@ TEST(BandSmoother, RelocationSchedulesHoldTheFig8RowsBlockByBlock) {
   expect_schedule_holds(fine, fine.post_prolongation_schedule, fine.post_prolongation_rows);
 }
 
+// Run-wise band relaxation (band_runs.hpp) keeps the step-by-step sweep's order: after three
+// band sweeps from random values every unknown equals the step-by-step result up to round-off, on
+// the mixed and the all-Dirichlet box (long runs on flat faces) and on an irregular typing (few,
+// short runs), and the runs hold most of the box's band work.
+template <int Dim>
+void expect_runs_equal_steps(const ElasticityProblem<Dim>& problem, double min_run_share) {
+  const Multigrid<Dim, double> mg(problem);
+  auto level = mg.finest();
+  ASSERT_TRUE(level.band_runs.valid_for(level.band_u.rows()));
+  const auto& runs = level.band_runs;
+  EXPECT_GE(static_cast<double>(runs.row_relaxations_in_runs),
+            min_run_share * static_cast<double>(runs.row_relaxations));
+  std::printf("band row relaxations in runs: %zu of %zu\n", runs.row_relaxations_in_runs,
+              runs.row_relaxations);
+  std::mt19937 rng(7);
+  std::normal_distribution<double> normal;
+  for (int f = 0; f <= Dim; ++f) {
+    for (std::size_t k = 0; k < level.size(); ++k) {
+      if (level.kind[f][k] != VarKind::INTERIOR) continue;
+      level.x[f][k] = normal(rng);
+      level.b[f][k] = 1e5 * normal(rng);
+    }
+  }
+  const auto start = level;
+  auto reference = level;
+  reference.band_runs = {};  // invalid: the step-by-step sweeps
+  band_gauss_seidel(level, 3);
+  band_gauss_seidel(reference, 3);
+  double scale = 0, difference = 0, moved = 0;
+  for (int f = 0; f <= Dim; ++f) {
+    for (std::size_t k = 0; k < level.size(); ++k) {
+      scale = std::max(scale, std::abs(reference.x[f][k]));
+      difference = std::max(difference, std::abs(level.x[f][k] - reference.x[f][k]));
+      moved = std::max(moved, std::abs(reference.x[f][k] - start.x[f][k]));
+    }
+  }
+  EXPECT_GT(moved, 0.1 * scale) << "the sweeps must move the unknowns";
+  EXPECT_LE(difference, 1e-11 * scale);
+}
+
+TEST(BandRuns, RunWiseSweepEqualsStepByStepSweep) {
+  for (const BoxBoundary boundary : {BoxBoundary::MIXED, BoxBoundary::DIRICHLET}) {
+    BoxSpec spec;
+    spec.cells = 16;
+    spec.poisson_ratio = 0.48;
+    spec.boundary = boundary;
+    expect_runs_equal_steps(make_box_problem<3>(spec), 0.4);
+    spec.cells = 40;
+    expect_runs_equal_steps(make_box_problem<2>(spec), 0.3);
+  }
+  expect_runs_equal_steps(test::irregular_problem<3>(12, 4u, {1e5, 0.45}), 0.0);
+  expect_runs_equal_steps(test::irregular_problem<2>(24, 2u, {1e5, 0.49}), 0.0);
+}
+
 }  // namespace
 }  // namespace mgelastic::grid

@@ -559,7 +559,8 @@ std::size_t Level<Dim, Scalar>::bytes() const {
   total += vector_bytes(band_u_schur_diagonal) + vector_bytes(band_u_pressure) +
            vector_bytes(band_u_pressure_factor) + vector_bytes(band_p_extra) +
            vector_bytes(band_p_inverse) + vector_bytes(band_blocks) +
-           vector_bytes(band_block_inverse) + vector_bytes(band_point_rows) + band_kernel.bytes();
+           vector_bytes(band_block_inverse) + vector_bytes(band_point_rows) + band_kernel.bytes() +
+           band_runs.bytes();
   return total;
 }
 
@@ -603,6 +604,7 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
   build_band_kernel(level);
   level.blocks = partition_into_blocks(level.lattice);
   build_band_schedule(level);
+  build_band_runs(level);
   build_traction_rules(level, sigma);
   return level;
 }
