@@ -32,10 +32,13 @@ std::vector<int> grow_patch(int seed, const BlockRowMatrix<double>& pattern,
   return patch;
 }
 
-// Start of column j in a packed column-major lower triangle of order n.
-std::size_t packed_column(int n, int j) {
-  return static_cast<std::size_t>(j) * n - static_cast<std::size_t>(j) * (j - 1) / 2;
+// First block of block column j of a block lower triangle with m block rows (column-major by
+// blocks: column j holds the blocks of rows j..m-1).
+std::size_t packed_block_column(int m, int j) {
+  return static_cast<std::size_t>(j) * m - static_cast<std::size_t>(j) * (j - 1) / 2;
 }
+
+using Block = Eigen::Map<const Eigen::Matrix3d>;
 
 }  // namespace
 
@@ -78,11 +81,9 @@ FeaturePatches::FeaturePatches(const geometry::TetMesh& mesh, const std::vector<
     }
     for (int r = 0; r < m; ++r) local[m_vertices[first + r]] = -1;
     m_block_offsets.push_back(static_cast<int>(m_blocks.size()));
-    const std::size_t n = 3 * static_cast<std::size_t>(m);
-    m_factor_offsets.push_back(m_factor_offsets.back() + n * (n + 1) / 2);
+    m_factor_offsets.push_back(m_factor_offsets.back() + 9 * packed_block_column(m, m));
   }
   m_factors.assign(m_factor_offsets.back(), 0.0);
-  m_inverse_diagonal.assign(3 * m_vertices.size(), 0.0);
 
   // Greedy colouring in patch order: a patch takes the first colour not used by a patch that
   // holds one of its vertices or their matrix neighbours.
@@ -142,12 +143,20 @@ void FeaturePatches::factor(const BlockRowMatrix<double>& a) {
         failed = std::min(failed, p);
         continue;
       }
+      // 3x3 blocks of L; the diagonal ones inverted (lower triangular), so that both
+      // substitutions are fixed-size 3x3 products.
       double* packed = m_factors.data() + m_factor_offsets[p];
-      double* inverse_diagonal = m_inverse_diagonal.data() + 3 * m_vertex_offsets[p];
-      for (int j = 0; j < n; ++j) {
-        inverse_diagonal[j] = 1.0 / dense(j, j);
-        for (int i = j; i < n; ++i) *packed++ = dense(i, j);
-      }
+      for (int j = 0; j < n / 3; ++j)
+        for (int i = j; i < n / 3; ++i, packed += 9) {
+          Eigen::Map<Eigen::Matrix3d> block(packed);
+          if (i == j) {
+            block = Eigen::Matrix3d(dense.block<3, 3>(3 * j, 3 * j).triangularView<Eigen::Lower>())
+                        .triangularView<Eigen::Lower>()
+                        .solve(Eigen::Matrix3d::Identity());
+          } else {
+            block = dense.block<3, 3>(3 * i, 3 * j);
+          }
+        }
     }
   }
   if (failed < patches)
@@ -157,7 +166,7 @@ void FeaturePatches::factor(const BlockRowMatrix<double>& a) {
 
 void FeaturePatches::solve_patch(int p, const BlockRowMatrix<double>& a, const Eigen::VectorXd& b,
                                  Eigen::VectorXd& x, double* r) const {
-  const int first = m_vertex_offsets[p], m = m_vertex_offsets[p + 1] - first, n = 3 * m;
+  const int first = m_vertex_offsets[p], m = m_vertex_offsets[p + 1] - first;
   // Residual rows of the patch, straight from the matrix blocks.
   for (int v = 0; v < m; ++v) {
     const int i = m_vertices[first + v];
@@ -166,23 +175,25 @@ void FeaturePatches::solve_patch(int p, const BlockRowMatrix<double>& a, const E
       ri.noalias() -= a.block(k) * x.segment<3>(3 * a.block_columns()[k]);
     Eigen::Map<Eigen::Vector3d>(r + 3 * v) = ri;
   }
-  // L y = r (column by column: an axpy per column), then L^T d = y (a dot per column).
+  // L y = r by block columns (y_J = L_JJ^{-1} r_J, then r_I -= L_IJ y_J below it), then
+  // L^T d = y by block rows from the bottom (d_J = L_JJ^{-T} (y_J - sum_{I>J} L_IJ^T d_I)).
   const double* packed = m_factors.data() + m_factor_offsets[p];
-  const double* inverse_diagonal = m_inverse_diagonal.data() + 3 * first;
-  for (int j = 0; j < n; ++j) {
-    const double* column = packed + packed_column(n, j);
-    const double y = r[j] * inverse_diagonal[j];
-    r[j] = y;
-#pragma omp simd
-    for (int i = j + 1; i < n; ++i) r[i] -= column[i - j] * y;
+  for (int j = 0; j < m; ++j) {
+    const double* column = packed + 9 * packed_block_column(m, j);
+    Eigen::Map<Eigen::Vector3d> rj(r + 3 * j);
+    const Eigen::Vector3d y = Block(column) * rj;
+    rj = y;
+    for (int i = j + 1; i < m; ++i)
+      Eigen::Map<Eigen::Vector3d>(r + 3 * i).noalias() -= Block(column + 9 * (i - j)) * y;
   }
-  for (int j = n - 1; j >= 0; --j) {
-    const double* column = packed + packed_column(n, j);
-    // Vector partial sums (the order is fixed by the compiler: same bits on every thread).
-    double s = 0.0;
-#pragma omp simd reduction(+ : s)
-    for (int i = j + 1; i < n; ++i) s += column[i - j] * r[i];
-    r[j] = (r[j] - s) * inverse_diagonal[j];
+  for (int j = m - 1; j >= 0; --j) {
+    const double* column = packed + 9 * packed_block_column(m, j);
+    Eigen::Map<Eigen::Vector3d> rj(r + 3 * j);
+    Eigen::Vector3d s = rj;
+    for (int i = j + 1; i < m; ++i)
+      s.noalias() -=
+          Block(column + 9 * (i - j)).transpose() * Eigen::Map<const Eigen::Vector3d>(r + 3 * i);
+    rj = Block(column).transpose() * s;
   }
   for (int v = 0; v < m; ++v)
     x.segment<3>(3 * m_vertices[first + v]) += Eigen::Map<const Eigen::Vector3d>(r + 3 * v);

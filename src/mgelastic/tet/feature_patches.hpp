@@ -7,8 +7,8 @@
 // edge); its patch is the vertex and its nearest matrix neighbours (breadth first, free vertices
 // only), at most `max_size` vertices. A pass is multiplicative Schwarz on the patches:
 //   x_P += A_PP^{-1} (b - A x)_P     for every patch P in turn,
-// with A_PP = L L^T (Cholesky, refreshed by factor() every update) solved by two triangular
-// substitutions.
+// with A_PP = L L^T (Cholesky, refreshed by factor() every update) solved by two block
+// triangular substitutions on L's 3x3 blocks.
 //
 // Colours: patches P, Q get different colours when they share a vertex or a matrix block joins a
 // vertex of P to one of Q (Q meets P's matrix neighbourhood). Then the solves of one colour read
@@ -19,11 +19,12 @@
 // sweep keep the cycle symmetric.
 //
 // Storage (one contiguous array each): the vertices of patch p are
-// vertices[vertex_offsets[p] .. vertex_offsets[p+1]); its factor L (n = 3 x vertices) is packed
-// column-major lower: column j holds rows j..n-1, columns one after the other, from
-// factor_offsets[p]; the reciprocal diagonal of L is stored apart (inverse_diagonal, from
-// 3 vertex_offsets[p]). A_PP is gathered from the BRC matrix through the block indices recorded
-// at construction (only blocks on or below the patch diagonal: LLT reads the lower triangle).
+// vertices[vertex_offsets[p] .. vertex_offsets[p+1]); its factor L (m x m blocks of 3x3 for m
+// vertices) is packed by block columns from factors[factor_offsets[p]]: block column J holds the
+// blocks of rows J..m-1, each 9 doubles column-major, the diagonal block stored as its inverse
+// L_JJ^{-1} (lower triangular). A_PP is gathered from the BRC matrix through the block indices
+// recorded at construction (only blocks on or below the patch diagonal: LLT reads the lower
+// triangle).
 #include <Eigen/Core>
 #include <vector>
 
@@ -69,7 +70,7 @@ class FeaturePatches {
   // [block_offsets[p], block_offsets[p+1]) of (matrix block index, local row, local column).
   std::vector<int> m_block_offsets{0}, m_blocks, m_block_rows, m_block_columns;
   std::vector<std::size_t> m_factor_offsets{0};
-  std::vector<double> m_factors, m_inverse_diagonal;
+  std::vector<double> m_factors;
   std::vector<int> m_color_offsets{0}, m_order;  // patches by colour
 };
 
