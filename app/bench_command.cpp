@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <ctime>
+#include <exception>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -384,8 +385,35 @@ struct TetStepOptions {
   int refine = 0, steps = 5, threads = 0, coarsest = 300, vcycles = 1;
   double tolerance = 1e-6, cell_factor = 1.587;
   std::string rotation = "energy";
+  std::string patches;  // "VALENCE[,SIZE]": feature patches (tet/feature_patches.hpp)
   bool symmetric = false, json = false, hypre = false, lexicographic = false, steps_only = false;
 };
+
+// "--patches VALENCE[,SIZE]": max valence >= 1, patch size >= 1 (12 when not given).
+tet::FeaturePatchSettings parse_feature_patches(const std::string& text) {
+  tet::FeaturePatchSettings settings;
+  if (text.empty()) return settings;
+  const auto bad = [&](const std::string& why) -> Error {
+    return Error(why + " (got '" + text + "')", {.pointer = "--patches"});
+  };
+  const std::size_t comma = text.find(',');
+  const auto positive = [&](const std::string& field, const char* name) {
+    std::size_t used = 0;
+    int value = 0;
+    try {
+      value = std::stoi(field, &used);
+    } catch (const std::exception&) {
+      throw bad(std::string("expected VALENCE[,SIZE] as integers: ") + name + " is not one");
+    }
+    if (used != field.size())
+      throw bad(std::string("expected VALENCE[,SIZE] as integers: ") + name + " is not one");
+    if (value < 1) throw bad(std::string(name) + " must be at least 1");
+    return value;
+  };
+  settings.max_valence = positive(text.substr(0, comma), "VALENCE");
+  if (comma != std::string::npos) settings.max_size = positive(text.substr(comma + 1), "SIZE");
+  return settings;
+}
 
 // hypre BoomerAMG-PCG (grid/hypre_baseline.hpp) on a tet step matrix (unknowns vertex-major).
 tet::ExternalSolveResult tet_boomeramg(const Eigen::SparseMatrix<double, Eigen::RowMajor>& a,
@@ -416,6 +444,7 @@ void run_tet_step(const TetStepOptions& o) {
   base.multigrid.hierarchy.first_cell_factor = o.cell_factor;
   base.multigrid.symmetric_sweeps = o.symmetric;
   base.multigrid.lexicographic = o.lexicographic;
+  base.multigrid.patches = parse_feature_patches(o.patches);
   base.steps_only = o.steps_only;
   if (o.hypre) base.external_solver = tet_boomeramg;
   base.rotation = o.rotation == "polar"            ? tet::RotationMethod::POLAR
@@ -434,10 +463,10 @@ void run_tet_step(const TetStepOptions& o) {
   if (!o.json)
     std::printf(
         "%7s %6s %11s | %6s %6s | %6s %6s | %5s %5s %6s | %6s %6s %6s | %6s %6s | %5s %8s | %9s "
-        "%9s %9s | %14s | %5s\n",
+        "%9s %9s | %14s | %9s | %5s\n",
         "tets", "verts", "coarsest", "rotate", "assem", "naive", "stream", "A0", "chol", "solve",
         "step", "cpu", "steps/s", "BJ st/s", "MB", "rate", "step res", "BJ-PCG", "MG-PCG",
-        "V to tol", "AMG-PCG set+sol", "setup");
+        "V to tol", "AMG-PCG set+sol", "patches", "setup");
   for (const tet::TetStepBenchmarkOptions& run : runs) {
     const tet::TetStepBenchmark r = tet::run_tet_step_benchmark(run);
     rows.push_back({{"mesh", r.mesh},
@@ -462,6 +491,10 @@ void run_tet_step(const TetStepOptions& o) {
                     {"smoother_colors", r.smoother_colors},
                     {"smoother_clustered_vertices", r.smoother_clustered_vertices},
                     {"lexicographic_smoother", o.lexicographic},
+                    {"feature_patch_max_valence", base.multigrid.patches.max_valence},
+                    {"feature_patch_max_size", base.multigrid.patches.max_size},
+                    {"feature_patches", r.feature_patches},
+                    {"feature_patch_colors", r.feature_patch_colors},
                     {"boomeramg_available", r.external.available},
                     {"boomeramg_setup_seconds", r.external.setup_seconds},
                     {"boomeramg_solve_seconds", r.external.solve_seconds},
@@ -486,9 +519,14 @@ void run_tet_step(const TetStepOptions& o) {
       if (r.external.available)
         std::snprintf(amg, sizeof amg, "%.0f+%.0f (%d)", 1e3 * r.external.setup_seconds,
                       1e3 * r.external.solve_seconds, r.external.iterations);
+      char patches[32] = "-";  // patches (colours)
+      if (r.feature_patches > 0)
+        std::snprintf(patches, sizeof patches, "%d (%d)", r.feature_patches,
+                      r.feature_patch_colors);
       std::printf(
           "%7d %6d %11s | %6.1f %6.1f | %6.1f %6.1f | %5.1f %5.1f %6.1f | %6.1f %6.1f %6.1f | "
-          "%6.1f %6.1f | %5.2f %8.1e | %4.0f %4.0f %4.0f %4.0f %4.0f %4.0f | %14s | %5.1f  %s\n",
+          "%6.1f %6.1f | %5.2f %8.1e | %4.0f %4.0f %4.0f %4.0f %4.0f %4.0f | %14s | %9s | %5.1f  "
+          "%s\n",
           r.tets, r.vertices, coarsest.c_str(), 1e3 * r.rotate_seconds, 1e3 * r.assemble_seconds,
           1e3 * r.galerkin_naive_seconds, 1e3 * r.galerkin_stream_seconds,
           1e3 * r.fine_operator_seconds, 1e3 * r.factor_seconds, 1e3 * r.solve_seconds,
@@ -496,7 +534,7 @@ void run_tet_step(const TetStepOptions& o) {
           r.baseline_steps_per_second, r.stream_bytes / 1e6, r.vcycle_rate, r.step_residual,
           1e3 * r.baseline_pcg_seconds, r.baseline_pcg_iterations, 1e3 * r.mg_pcg_seconds,
           r.mg_pcg_iterations, 1e3 * r.vcycles_to_tolerance_seconds, r.vcycles_to_tolerance, amg,
-          r.setup_seconds, r.mesh.c_str());
+          patches, r.setup_seconds, r.mesh.c_str());
       std::fflush(stdout);
     }
   }
@@ -568,6 +606,9 @@ void register_bench_commands(CLI::App& app) {
   tet_step->add_option("--vcycles", tet_options.vcycles, "V-cycles per step");
   tet_step->add_flag("--symmetric", tet_options.symmetric,
                      "Symmetric Gauss-Seidel sweeps (forward + backward) as each smoothing step");
+  tet_step->add_option("--patches", tet_options.patches,
+                       "Feature patches VALENCE[,SIZE]: block solves around vertices in <= "
+                       "VALENCE tets, SIZE (12) vertices each (e.g. 7 or 7,12; off by default)");
   tet_step->add_option("--steps", tet_options.steps, "Measured steps (after one warm-up)");
   tet_step->add_option("--tolerance", tet_options.tolerance,
                        "Relative residual of the baseline solves");

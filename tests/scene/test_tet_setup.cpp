@@ -133,6 +133,23 @@ TEST(TetSetup, SettingsComeFromTheScene) {
   EXPECT_DOUBLE_EQ(setup.materials.youngs_modulus[0], 1e5);
 }
 
+// tet.feature_patches reaches the multigrid settings; off (max_valence 0) by default; a patch
+// size below 1 is refused with the field's pointer.
+TEST(TetSetup, FeaturePatchesComeFromTheScene) {
+  EXPECT_EQ(build_tet_setup(parse_scene(bar_scene(), "scene.json", "."))
+                .settings.multigrid.patches.max_valence,
+            0);
+  auto scene = bar_scene();
+  scene["tet"]["linear_solver"] = "multigrid";
+  scene["tet"]["feature_patches"] = {{"max_valence", 7}, {"max_size", 10}};
+  const TetSetup setup = build_tet_setup(parse_scene(scene, "scene.json", "."));
+  EXPECT_EQ(setup.settings.multigrid.patches.max_valence, 7);
+  EXPECT_EQ(setup.settings.multigrid.patches.max_size, 10);
+  scene["tet"]["feature_patches"]["max_size"] = 0;
+  const std::string error = error_of(scene);
+  EXPECT_EQ(error.rfind("scene.json: /tet/feature_patches/max_size: ", 0), 0u) << error;
+}
+
 TEST(TetSetup, RegionSelectingNoVertexNamesItsPointer) {
   auto scene = bar_scene();
   scene["constraints"][1]["region"] = {{"sphere", {{"center", {5, 5, 5}}, {"radius", 0.1}}}};

@@ -1,10 +1,14 @@
 // Block solves on patches around low-valence vertices (feature_patches.hpp).
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
 #include <algorithm>
+#include <cmath>
+#include <iostream>
 #include <random>
 
 #include "mgelastic/core/error.hpp"
+#include "mgelastic/core/threads.hpp"
 #include "mgelastic/tet/corotated_assembly.hpp"
 #include "mgelastic/tet/feature_patches.hpp"
 #include "tet/step_matrix_test_support.hpp"
@@ -15,6 +19,42 @@ namespace {
 
 // A dense 3n x 3n solve of an SPD step matrix: round-off relative to |b|.
 constexpr double kSolveRoundoff = 1e-10;
+
+// A coloured pass against the same solves one after the other in the dense algebra: the order
+// of additions differs, so round-off relative to |x|.
+constexpr double kSerialRoundoff = 1e-12;
+// Colouring changes the order of the Schwarz solves; the contraction may change a little.
+constexpr double kColourOrderMargin = 0.05;
+
+// Bar 1 x 0.25 x 0.25 with its left end fixed.
+std::vector<char> left_end_fixed(const geometry::TetMesh& mesh) {
+  std::vector<char> fixed(mesh.vertex_count(), 0);
+  for (int v = 0; v < mesh.vertex_count(); ++v) fixed[v] = mesh.vertices(v, 0) < 1e-9;
+  return fixed;
+}
+
+Eigen::VectorXd random_vector(Eigen::Index size, const std::vector<char>& fixed, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  Eigen::VectorXd v(size);
+  for (Eigen::Index i = 0; i < size; ++i) v[i] = fixed[i / 3] != 0 ? 0.0 : uniform(rng);
+  return v;
+}
+
+// Multiplicative Schwarz in the dense algebra: x_P += A_PP^{-1} (b - A x)_P, patches in `order`.
+void serial_schwarz(const Eigen::MatrixXd& a, const FeaturePatches& patches,
+                    const std::vector<int>& order, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  for (const int p : order) {
+    const std::vector<int> patch = patches.patch(p);
+    std::vector<int> rows;
+    for (const int v : patch)
+      for (int c = 0; c < 3; ++c) rows.push_back(3 * v + c);
+    const Eigen::VectorXd r = b - a * x;
+    const Eigen::MatrixXd app = a(rows, rows);
+    const Eigen::VectorXd d = app.llt().solve(r(rows));
+    x(rows) += d;
+  }
+}
 
 std::vector<int> valences(const geometry::TetMesh& mesh) {
   std::vector<int> valence(mesh.vertex_count(), 0);
@@ -60,6 +100,113 @@ TEST(FeaturePatches, APatchCoveringTheMeshSolvesExactly) {
   patches.pass(a, b, x, true);
   a.multiply(x, ax);
   EXPECT_LE((b - ax).norm(), kSolveRoundoff * b.norm());
+}
+
+// Patches of one colour are solved in parallel: no vertex of one may be a vertex or a matrix
+// neighbour of a vertex of another. Every patch has exactly one colour.
+TEST(FeaturePatches, PatchesOfOneColourShareNoVertexAndNoMatrixBlock) {
+  const geometry::TetMesh mesh = test::box_mesh(Eigen::Vector3d(1.0, 0.25, 0.25), 1.0 / 8);
+  const std::vector<char> fixed = left_end_fixed(mesh);
+  const BlockRowMatrix<double> a = test::stiff_step_matrix(mesh);
+  const FeaturePatches patches(mesh, fixed, a, {1000, 6});  // every free vertex seeds a patch
+  ASSERT_GT(patches.color_count(), 1);
+  std::vector<int> times_coloured(patches.patch_count(), 0);
+  for (int k = 0; k < patches.color_count(); ++k) {
+    const std::vector<int> members = patches.color_patches(k);
+    std::vector<int> owner(mesh.vertex_count(), -1);  // patch of this colour holding the vertex
+    for (const int p : members) {
+      ++times_coloured[p];
+      for (const int v : patches.patch(p)) {
+        EXPECT_EQ(owner[v], -1) << "colour " << k << " vertex " << v;
+        owner[v] = p;
+      }
+    }
+    for (const int p : members)
+      for (const int v : patches.patch(p))
+        for (int e = a.row_offsets()[v]; e < a.row_offsets()[v + 1]; ++e) {
+          const int j = a.block_columns()[e];
+          EXPECT_TRUE(owner[j] == -1 || owner[j] == p)
+              << "colour " << k << ": patches " << p << " and " << owner[j] << " coupled";
+        }
+  }
+  for (int p = 0; p < patches.patch_count(); ++p) EXPECT_EQ(times_coloured[p], 1) << p;
+}
+
+// The parallel coloured pass is multiplicative Schwarz with the patches in colour order (the
+// dense one-after-the-other solves give the same x), and that order contracts the error about as
+// well as the patch (vertex) order: energy-norm contraction of a forward + backward pass.
+TEST(FeaturePatches, ColouredPassIsMultiplicativeSchwarzAsGoodAsTheVertexOrder) {
+  const geometry::TetMesh mesh = test::box_mesh(Eigen::Vector3d(1.0, 0.25, 0.25), 1.0 / 8);
+  const std::vector<char> fixed = left_end_fixed(mesh);
+  const BlockRowMatrix<double> a = test::stiff_step_matrix(mesh);
+  FeaturePatches patches(mesh, fixed, a, {1000, 6});
+  patches.factor(a);
+  Eigen::MatrixXd dense = a.to_sparse();
+  for (int v = 0; v < mesh.vertex_count(); ++v)  // Dirichlet rows and columns: the identity
+    if (fixed[v] != 0) {
+      dense.middleRows(3 * v, 3).setZero();
+      dense.middleCols(3 * v, 3).setZero();
+      dense.block<3, 3>(3 * v, 3 * v).setIdentity();
+    }
+  std::vector<int> colour_order, vertex_order(patches.patch_count());
+  for (int k = 0; k < patches.color_count(); ++k)
+    for (const int p : patches.color_patches(k)) colour_order.push_back(p);
+  for (int p = 0; p < patches.patch_count(); ++p) vertex_order[p] = p;
+
+  const Eigen::VectorXd b = random_vector(dense.rows(), fixed, 3);
+  Eigen::VectorXd coloured = random_vector(dense.rows(), fixed, 4), serial = coloured;
+  patches.pass(a, b, coloured, true);
+  serial_schwarz(dense, patches, colour_order, b, serial);
+  EXPECT_LE((coloured - serial).norm(), kSerialRoundoff * serial.norm());
+
+  // Error e with b = 0: forward then backward pass (backward: colours reversed), 4 times.
+  const auto contraction = [&](const std::vector<int>& order, bool use_pass) {
+    const Eigen::VectorXd zero = Eigen::VectorXd::Zero(dense.rows());
+    Eigen::VectorXd e = random_vector(dense.rows(), fixed, 5);
+    const double start = std::sqrt(e.dot(dense * e));
+    const std::vector<int> reversed(order.rbegin(), order.rend());
+    for (int s = 0; s < 4; ++s) {
+      if (use_pass) {
+        patches.pass(a, zero, e, true);
+        patches.pass(a, zero, e, false);
+      } else {
+        serial_schwarz(dense, patches, order, zero, e);
+        serial_schwarz(dense, patches, reversed, zero, e);
+      }
+    }
+    return std::pow(std::sqrt(e.dot(dense * e)) / start, 1.0 / 4);
+  };
+  const double by_colour = contraction(colour_order, true);
+  const double by_vertex = contraction(vertex_order, false);
+  std::cout << "[ schwarz ] " << patches.patch_count() << " patches, " << patches.color_count()
+            << " colours: contraction per symmetric pass " << by_colour << " (vertex order "
+            << by_vertex << ")\n";
+  EXPECT_LT(by_colour, 1.0);
+  EXPECT_LE(by_colour, by_vertex + kColourOrderMargin);
+}
+
+// The pass goes parallel from 256 patches (feature_patches.cpp); colours make it race-free, so
+// 1 and 2 threads give the same bits.
+TEST(FeaturePatches, PassDoesNotDependOnTheThreadCount) {
+  const geometry::TetMesh mesh = test::box_mesh(Eigen::Vector3d(1.0, 0.25, 0.25), 1.0 / 16);
+  const std::vector<char> fixed = left_end_fixed(mesh);
+  const BlockRowMatrix<double> a = test::stiff_step_matrix(mesh);
+  FeaturePatches patches(mesh, fixed, a, {1000, 12});
+  ASSERT_GE(patches.patch_count(), 256);
+  const int threads = thread_count();
+  set_thread_count(2);
+  patches.factor(a);
+  const Eigen::VectorXd b = random_vector(3 * mesh.vertex_count(), fixed, 6);
+  Eigen::VectorXd one = Eigen::VectorXd::Zero(b.size()), two = one;
+  set_thread_count(1);
+  patches.pass(a, b, one, true);
+  patches.pass(a, b, one, false);
+  set_thread_count(2);
+  patches.pass(a, b, two, true);
+  patches.pass(a, b, two, false);
+  set_thread_count(threads);
+  EXPECT_GT(one.norm(), 0.0);
+  EXPECT_EQ((one - two).cwiseAbs().maxCoeff(), 0.0);
 }
 
 TEST(FeaturePatches, RejectsAnEmptyPatchSize) {

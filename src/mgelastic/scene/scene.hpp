@@ -58,6 +58,10 @@ struct Scene {
     int max_iterations = 2000;
     int vcycles = 0;  // multigrid: V-cycles per step, 0 = to the tolerance
     std::string smoother = "gauss_seidel";
+    struct FeaturePatches {
+      int max_valence = 0;  // 0 = none
+      int max_size = 12;
+    } feature_patches;
   } tet;
   std::string surface_interpolation = "tricubic";
   double surface_spacing = 0.5;  // marching-cubes spacing / cell size

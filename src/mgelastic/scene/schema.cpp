@@ -204,7 +204,17 @@ Field build_schema() {
               "multigrid / mg_pcg smoothing: one forward block Gauss-Seidel sweep before and one "
               "backward after the coarse correction (the paper), or a symmetric pair (forward + "
               "backward) on each side: slower per cycle, better rate (armadillo 0.43 -> 0.21)",
-              "gauss_seidel", {"gauss_seidel", "symmetric_gauss_seidel"})});
+              "gauss_seidel", {"gauss_seidel", "symmetric_gauss_seidel"}),
+       object("feature_patches",
+              "multigrid / mg_pcg: block solves on patches at thin features of the finest level "
+              "(ear and claw tips) after each forward and before each backward smoothing sweep",
+              {integer("max_valence",
+                       "A patch around every free vertex in at most this many tetrahedra; 0 = "
+                       "no patches (7 brings the tetgen armadillo to <= 0.3 per symmetric "
+                       "V-cycle)",
+                       0, 0),
+               integer("max_size", "Vertices per patch (the seed and its nearest neighbours)", 12,
+                       1, 64)})});
   Field surface = object(
       "surface", "Deformed embedded surface (grid engine, Sec. 9.3)",
       {choice("interpolation", "How surface points follow the lattice", "tricubic",

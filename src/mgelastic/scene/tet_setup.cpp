@@ -111,6 +111,7 @@ tet::CorotatedSolverSettings solver_settings(const Scene& scene) {
   if (scene.tet.linear_solver == "mg_pcg") s.linear_solver = tet::LinearSolver::MG_PCG;
   s.vcycles = scene.tet.vcycles;
   s.multigrid.symmetric_sweeps = scene.tet.smoother == "symmetric_gauss_seidel";
+  s.multigrid.patches = {scene.tet.feature_patches.max_valence, scene.tet.feature_patches.max_size};
   s.pcg.tolerance = scene.tet.tolerance;
   s.pcg.max_iterations = scene.tet.max_iterations;
   return s;

@@ -9,6 +9,10 @@
 namespace mgelastic::tet {
 namespace {
 
+// Passes over fewer patches run serially. A patch solve is ~10x the work of a cluster update
+// (12 residual rows and two 36 x 36 substitutions), so the threshold is lower than the smoother's.
+constexpr int kMinParallelPatches = 256;
+
 [[noreturn]] void fail(const std::string& reason) {
   throw Error(reason, ErrorContext{std::string(), -1, "FeaturePatches"});
 }
@@ -28,6 +32,14 @@ std::vector<int> grow_patch(int seed, const BlockRowMatrix<double>& pattern,
   return patch;
 }
 
+// First block of block column j of a block lower triangle with m block rows (column-major by
+// blocks: column j holds the blocks of rows j..m-1).
+std::size_t packed_block_column(int m, int j) {
+  return static_cast<std::size_t>(j) * m - static_cast<std::size_t>(j) * (j - 1) / 2;
+}
+
+using Block = Eigen::Map<const Eigen::Matrix3d>;
+
 }  // namespace
 
 FeaturePatches::FeaturePatches(const geometry::TetMesh& mesh, const std::vector<char>& constrained,
@@ -39,50 +51,167 @@ FeaturePatches::FeaturePatches(const geometry::TetMesh& mesh, const std::vector<
     fail("pattern or constraints do not match the mesh's " + std::to_string(mesh.vertex_count()) +
          " vertices");
   if (settings.max_valence <= 0) return;
+  m_max_size = settings.max_size;
+  // Selection: a patch around every free vertex in <= max_valence tets.
   std::vector<int> valence(mesh.vertex_count(), 0);
   for (int t = 0; t < mesh.tet_count(); ++t)
     for (int a = 0; a < 4; ++a) ++valence[mesh.tets(t, a)];
   for (int v = 0; v < mesh.vertex_count(); ++v)
-    if (valence[v] <= settings.max_valence && constrained[v] == 0)
-      m_patches.push_back(grow_patch(v, pattern, constrained, settings.max_size));
+    if (valence[v] <= settings.max_valence && constrained[v] == 0) {
+      const std::vector<int> patch = grow_patch(v, pattern, constrained, settings.max_size);
+      m_vertices.insert(m_vertices.end(), patch.begin(), patch.end());
+      m_vertex_offsets.push_back(static_cast<int>(m_vertices.size()));
+    }
+  const int patches = patch_count();
+
+  // Blocks of each A_PP on or below its diagonal, and the packed factor offsets.
+  std::vector<int> local(mesh.vertex_count(), -1);
+  for (int p = 0; p < patches; ++p) {
+    const int first = m_vertex_offsets[p], m = m_vertex_offsets[p + 1] - first;
+    for (int r = 0; r < m; ++r) local[m_vertices[first + r]] = r;
+    for (int r = 0; r < m; ++r) {
+      const int i = m_vertices[first + r];
+      for (int k = pattern.row_offsets()[i]; k < pattern.row_offsets()[i + 1]; ++k) {
+        const int c = local[pattern.block_columns()[k]];
+        if (c < 0 || c > r) continue;
+        m_blocks.push_back(k);
+        m_block_rows.push_back(r);
+        m_block_columns.push_back(c);
+      }
+    }
+    for (int r = 0; r < m; ++r) local[m_vertices[first + r]] = -1;
+    m_block_offsets.push_back(static_cast<int>(m_blocks.size()));
+    m_factor_offsets.push_back(m_factor_offsets.back() + 9 * packed_block_column(m, m));
+  }
+  m_factors.assign(m_factor_offsets.back(), 0.0);
+
+  // Greedy colouring in patch order: a patch takes the first colour not used by a patch that
+  // holds one of its vertices or their matrix neighbours.
+  std::vector<int> holder_offsets(mesh.vertex_count() + 1, 0), holders(m_vertices.size());
+  for (const int v : m_vertices) ++holder_offsets[v + 1];
+  for (int v = 0; v < mesh.vertex_count(); ++v) holder_offsets[v + 1] += holder_offsets[v];
+  {
+    std::vector<int> fill(holder_offsets.begin(), holder_offsets.end() - 1);
+    for (int p = 0; p < patches; ++p)
+      for (int q = m_vertex_offsets[p]; q < m_vertex_offsets[p + 1]; ++q)
+        holders[fill[m_vertices[q]]++] = p;
+  }
+  std::vector<int> color(patches, -1), seen;
+  int colors = 0;
+  for (int p = 0; p < patches; ++p) {
+    seen.assign(colors + 1, 0);
+    for (int q = m_vertex_offsets[p]; q < m_vertex_offsets[p + 1]; ++q)
+      for (int k = pattern.row_offsets()[m_vertices[q]];
+           k < pattern.row_offsets()[m_vertices[q] + 1]; ++k) {
+        const int j = pattern.block_columns()[k];
+        for (int h = holder_offsets[j]; h < holder_offsets[j + 1]; ++h)
+          if (color[holders[h]] >= 0) seen[color[holders[h]]] = 1;
+      }
+    color[p] = static_cast<int>(std::find(seen.begin(), seen.end(), 0) - seen.begin());
+    colors = std::max(colors, color[p] + 1);
+  }
+  m_color_offsets.assign(colors + 1, 0);
+  for (int p = 0; p < patches; ++p) ++m_color_offsets[color[p] + 1];
+  for (int k = 0; k < colors; ++k) m_color_offsets[k + 1] += m_color_offsets[k];
+  m_order.resize(patches);
+  std::vector<int> fill(m_color_offsets.begin(), m_color_offsets.end() - 1);
+  for (int p = 0; p < patches; ++p) m_order[fill[color[p]]++] = p;
+}
+
+std::vector<int> FeaturePatches::patch(int p) const {
+  return {m_vertices.begin() + m_vertex_offsets[p], m_vertices.begin() + m_vertex_offsets[p + 1]};
+}
+
+std::vector<int> FeaturePatches::color_patches(int k) const {
+  return {m_order.begin() + m_color_offsets[k], m_order.begin() + m_color_offsets[k + 1]};
 }
 
 void FeaturePatches::factor(const BlockRowMatrix<double>& a) {
-  m_inverses.resize(m_patches.size());
-  for (std::size_t p = 0; p < m_patches.size(); ++p) {
-    const std::vector<int>& patch = m_patches[p];
-    const int m = static_cast<int>(patch.size());
-    Eigen::MatrixXd block = Eigen::MatrixXd::Zero(3 * m, 3 * m);
-    for (int r = 0; r < m; ++r)
-      for (int k = a.row_offsets()[patch[r]]; k < a.row_offsets()[patch[r] + 1]; ++k) {
-        const auto column = std::find(patch.begin(), patch.end(), a.block_columns()[k]);
-        if (column != patch.end())
-          block.block<3, 3>(3 * r, 3 * (column - patch.begin())) = a.block(k);
+  const int patches = patch_count();
+  int failed = patches;  // the first patch that is not positive definite
+#pragma omp parallel if (patches >= kMinParallelPatches)
+  {
+    Eigen::MatrixXd dense;  // per thread: A_PP's lower blocks, then L in place
+#pragma omp for schedule(dynamic, 32) reduction(min : failed)
+    for (int p = 0; p < patches; ++p) {
+      const int n = 3 * (m_vertex_offsets[p + 1] - m_vertex_offsets[p]);
+      dense.setZero(n, n);  // blocks of vertices not sharing a tet stay zero
+      for (int e = m_block_offsets[p]; e < m_block_offsets[p + 1]; ++e)
+        dense.block<3, 3>(3 * m_block_rows[e], 3 * m_block_columns[e]) = a.block(m_blocks[e]);
+      Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(dense);  // reads and overwrites the lower part
+      if (llt.info() != Eigen::Success) {
+        failed = std::min(failed, p);
+        continue;
       }
-    const Eigen::LLT<Eigen::MatrixXd> llt(block);
-    if (llt.info() != Eigen::Success)
-      fail("patch around vertex " + std::to_string(patch[0]) + " is not positive definite");
-    m_inverses[p] = llt.solve(Eigen::MatrixXd::Identity(3 * m, 3 * m));
+      // 3x3 blocks of L; the diagonal ones inverted (lower triangular), so that both
+      // substitutions are fixed-size 3x3 products.
+      double* packed = m_factors.data() + m_factor_offsets[p];
+      for (int j = 0; j < n / 3; ++j)
+        for (int i = j; i < n / 3; ++i, packed += 9) {
+          Eigen::Map<Eigen::Matrix3d> block(packed);
+          if (i == j) {
+            block = Eigen::Matrix3d(dense.block<3, 3>(3 * j, 3 * j).triangularView<Eigen::Lower>())
+                        .triangularView<Eigen::Lower>()
+                        .solve(Eigen::Matrix3d::Identity());
+          } else {
+            block = dense.block<3, 3>(3 * i, 3 * j);
+          }
+        }
+    }
   }
+  if (failed < patches)
+    fail("patch around vertex " + std::to_string(m_vertices[m_vertex_offsets[failed]]) +
+         " is not positive definite");
+}
+
+void FeaturePatches::solve_patch(int p, const BlockRowMatrix<double>& a, const Eigen::VectorXd& b,
+                                 Eigen::VectorXd& x, double* r) const {
+  const int first = m_vertex_offsets[p], m = m_vertex_offsets[p + 1] - first;
+  // Residual rows of the patch, straight from the matrix blocks.
+  for (int v = 0; v < m; ++v) {
+    const int i = m_vertices[first + v];
+    Eigen::Vector3d ri = b.segment<3>(3 * i);
+    for (int k = a.row_offsets()[i]; k < a.row_offsets()[i + 1]; ++k)
+      ri.noalias() -= a.block(k) * x.segment<3>(3 * a.block_columns()[k]);
+    Eigen::Map<Eigen::Vector3d>(r + 3 * v) = ri;
+  }
+  // L y = r by block columns (y_J = L_JJ^{-1} r_J, then r_I -= L_IJ y_J below it), then
+  // L^T d = y by block rows from the bottom (d_J = L_JJ^{-T} (y_J - sum_{I>J} L_IJ^T d_I)).
+  const double* packed = m_factors.data() + m_factor_offsets[p];
+  for (int j = 0; j < m; ++j) {
+    const double* column = packed + 9 * packed_block_column(m, j);
+    Eigen::Map<Eigen::Vector3d> rj(r + 3 * j);
+    const Eigen::Vector3d y = Block(column) * rj;
+    rj = y;
+    for (int i = j + 1; i < m; ++i)
+      Eigen::Map<Eigen::Vector3d>(r + 3 * i).noalias() -= Block(column + 9 * (i - j)) * y;
+  }
+  for (int j = m - 1; j >= 0; --j) {
+    const double* column = packed + 9 * packed_block_column(m, j);
+    Eigen::Map<Eigen::Vector3d> rj(r + 3 * j);
+    Eigen::Vector3d s = rj;
+    for (int i = j + 1; i < m; ++i)
+      s.noalias() -=
+          Block(column + 9 * (i - j)).transpose() * Eigen::Map<const Eigen::Vector3d>(r + 3 * i);
+    rj = Block(column).transpose() * s;
+  }
+  for (int v = 0; v < m; ++v)
+    x.segment<3>(3 * m_vertices[first + v]) += Eigen::Map<const Eigen::Vector3d>(r + 3 * v);
 }
 
 void FeaturePatches::pass(const BlockRowMatrix<double>& a, const Eigen::VectorXd& b,
                           Eigen::VectorXd& x, bool forward) const {
-  const int count = patch_count();
-  Eigen::VectorXd r, d;  // reused: patches have at most max_size vertices
-  for (int q = 0; q < count; ++q) {
-    const int p = forward ? q : count - 1 - q;
-    const std::vector<int>& patch = m_patches[p];
-    r.resize(3 * static_cast<Eigen::Index>(patch.size()));
-    for (std::size_t i = 0; i < patch.size(); ++i) {
-      Eigen::Vector3d ri = b.segment<3>(3 * patch[i]);
-      for (int k = a.row_offsets()[patch[i]]; k < a.row_offsets()[patch[i] + 1]; ++k)
-        ri.noalias() -= a.block(k) * x.segment<3>(3 * a.block_columns()[k]);
-      r.segment<3>(3 * static_cast<Eigen::Index>(i)) = ri;
+  const int colors = color_count();
+  // One parallel region per pass, a barrier after each colour (the next colour reads its x).
+#pragma omp parallel if (patch_count() >= kMinParallelPatches)
+  {
+    std::vector<double> r(3 * static_cast<std::size_t>(m_max_size));
+    for (int step = 0; step < colors; ++step) {
+      const int k = forward ? step : colors - 1 - step;
+#pragma omp for schedule(static)
+      for (int q = m_color_offsets[k]; q < m_color_offsets[k + 1]; ++q)
+        solve_patch(m_order[q], a, b, x, r.data());
     }
-    d.noalias() = m_inverses[p] * r;
-    for (std::size_t i = 0; i < patch.size(); ++i)
-      x.segment<3>(3 * patch[i]) += d.segment<3>(3 * static_cast<Eigen::Index>(i));
   }
 }
 

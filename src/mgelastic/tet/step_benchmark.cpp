@@ -162,6 +162,8 @@ TetStepBenchmark run_tet_step_benchmark(const TetStepBenchmarkOptions& options) 
     r.smoother_colors = mg.smoother(0).color_count();
     r.smoother_clustered_vertices = mg.smoother(0).clustered_vertices();
   }
+  r.feature_patches = mg.patches().patch_count();
+  r.feature_patch_colors = mg.patches().color_count();
   r.steps_per_second = 1.0 / r.step_seconds;
   if (options.steps_only) return r;
   if (options.external_solver) {

@@ -73,6 +73,7 @@ struct TetStepBenchmark {
   std::size_t stream_bytes = 0;
   ExternalSolveResult external;                              // on the last step's matrix
   int smoother_colors = 0, smoother_clustered_vertices = 0;  // level 0
+  int feature_patches = 0, feature_patch_colors = 0;         // multigrid.patches (level 0)
   double steps_per_second = 0.0;                             // 1 / step_seconds
   double baseline_steps_per_second = 0.0;  // step with BJ-PCG instead of Galerkin + V-cycles
 };
