@@ -12,6 +12,7 @@ long_tests+='|FiveHundredStepTwist|WCycleRateIsResolutionIndependentIn3D'
 long_tests+='|MixedBoxRateIsDepthIndependentIn2D|RecedingCoarseClampSlowsDeepHierarchies|MixedBoxRateIsResolutionIndependentIn3D'
 long_tests+='|RateOnTetGenMeshesOfSeveralSizes|CorotatedLoadStepping\.|CorotatedDistributiveSmoother\.RatesPerVCycle'
 long_tests+='|NewtonKrylovStepBeatsThePicardCycleAt30Fps|RecycledDirectionsImproveTheOneCycleStep'
+long_tests+='|AdaptivePatchesSpeedUpTheCycleAndDoNotDependOnTheThreadCount'
 scripts/build.sh asan
 # halt_on_error: a UBSan report fails the test (the preset also compiles with
 # -fno-sanitize-recover); detect_leaks: leaks fail it too.

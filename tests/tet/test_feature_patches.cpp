@@ -218,3 +218,27 @@ TEST(FeaturePatches, RejectsAnEmptyPatchSize) {
 
 }  // namespace
 }  // namespace mgelastic::tet
+
+namespace mgelastic::tet {
+namespace {
+
+// Externally chosen patches (patch_seeds.hpp) are kept as given and checked.
+TEST(FeaturePatches, ExplicitPatchesAreKeptAndValidated) {
+  std::vector<char> fixed(10, 0);
+  fixed[9] = 1;
+  const FeaturePatches patches({{2, 3, 4}, {7}}, fixed);
+  ASSERT_EQ(patches.patch_count(), 2);
+  EXPECT_EQ(patches.patch(0), (std::vector<int>{2, 3, 4}));
+  EXPECT_EQ(patches.patch(1), (std::vector<int>{7}));
+  EXPECT_THROW(FeaturePatches({{}}, fixed), Error);
+  EXPECT_THROW(FeaturePatches({{1, 10}}, fixed), Error);
+  EXPECT_THROW(FeaturePatches({{1, 9}}, fixed), Error);
+  EXPECT_THROW(FeaturePatches({{1, 2, 1}}, fixed), Error);
+  FeaturePatches appended = patches;
+  appended.append(FeaturePatches({{5, 6}}, fixed));
+  ASSERT_EQ(appended.patch_count(), 3);
+  EXPECT_EQ(appended.patch(2), (std::vector<int>{5, 6}));
+}
+
+}  // namespace
+}  // namespace mgelastic::tet

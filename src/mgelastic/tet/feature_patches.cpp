@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <string>
+#include <utility>
 
 #include "mgelastic/core/error.hpp"
 
@@ -124,6 +125,28 @@ std::vector<int> FeaturePatches::patch(int p) const {
 
 std::vector<int> FeaturePatches::color_patches(int k) const {
   return {m_order.begin() + m_color_offsets[k], m_order.begin() + m_color_offsets[k + 1]};
+}
+
+FeaturePatches::FeaturePatches(std::vector<std::vector<int>> patches,
+                               const std::vector<char>& constrained)
+    : m_patches(std::move(patches)) {
+  const int n = static_cast<int>(constrained.size());
+  for (const std::vector<int>& patch : m_patches) {
+    if (patch.empty()) fail("empty patch");
+    for (std::size_t i = 0; i < patch.size(); ++i) {
+      const int v = patch[i];
+      if (v < 0 || v >= n) fail("patch vertex " + std::to_string(v) + " out of range");
+      if (constrained[v] != 0) fail("patch vertex " + std::to_string(v) + " is constrained");
+      if (std::find(patch.begin(), patch.begin() + static_cast<std::ptrdiff_t>(i), v) !=
+          patch.begin() + static_cast<std::ptrdiff_t>(i))
+        fail("patch vertex " + std::to_string(v) + " repeated");
+    }
+  }
+}
+
+void FeaturePatches::append(const FeaturePatches& more) {
+  m_patches.insert(m_patches.end(), more.m_patches.begin(), more.m_patches.end());
+  m_inverses.clear();
 }
 
 void FeaturePatches::factor(const BlockRowMatrix<double>& a) {

@@ -44,6 +44,11 @@ class FeaturePatches {
   // Throws Error for max_size < 1 or a pattern / constraint vector not matching the mesh.
   FeaturePatches(const geometry::TetMesh& mesh, const std::vector<char>& constrained,
                  const BlockRowMatrix<double>& pattern, const FeaturePatchSettings& settings);
+  // Externally chosen patches (patch_seeds.hpp: grown along the cycle's slow error). Throws Error
+  // for an empty patch, a vertex out of range or repeated in a patch, or a constrained vertex.
+  FeaturePatches(std::vector<std::vector<int>> patches, const std::vector<char>& constrained);
+  // Appends the patches of `more` (factor() again before the next pass).
+  void append(const FeaturePatches& more);
 
   int patch_count() const { return static_cast<int>(m_vertex_offsets.size()) - 1; }
   // The vertices of patch p (the seed first).

@@ -2,6 +2,7 @@
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -81,6 +82,35 @@ void TetMultigrid::update(const BlockRowMatrix<double>& stiffness,
     }
   m_times.fine_seconds = timer.seconds();
   update_coarse(m_settings.galerkin);
+  if (!m_patches_seeded && m_settings.adaptive_patches.rounds > 0) seed_adaptive_patches();
+  m_patches_seeded = true;
+}
+
+void TetMultigrid::seed_adaptive_patches() {
+  // Power iterations of the error operator e <- (I - B A) e (cycles on A e = 0) find where the
+  // cycle is slow; patches there, then again on the improved cycle (patch_seeds.hpp).
+  const AdaptivePatchSettings& adaptive = m_settings.adaptive_patches;
+  const std::vector<char>& fixed = m_hierarchy.constrained(0);
+  const int n = m_hierarchy.vertex_count(0);
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(3 * static_cast<Eigen::Index>(n));
+  std::vector<char> seeded(n, 0);  // adaptive seeds so far
+  const int max_seeds =
+      std::max(1, static_cast<int>(adaptive.max_seed_fraction * static_cast<double>(n)));
+  for (int round = 0; round < adaptive.rounds; ++round) {
+    const SlowError slow = slow_error(
+        n, fixed, [&](Eigen::VectorXd& v) { cycle(zero, v); }, adaptive.cycles,
+        adaptive.random_seed + static_cast<unsigned>(round));
+    m_adaptive_contractions.push_back(slow.contraction);
+    if (!(slow.contraction > adaptive.target_contraction)) break;
+    const Eigen::VectorXd& e = slow.e;
+    const std::vector<int> seeds =
+        slow_error_seeds(e, m_levels[0].matrix, fixed, seeded, adaptive.threshold, max_seeds);
+    if (seeds.empty()) break;
+    for (const int v : seeds) seeded[v] = 1;
+    m_patches.append(FeaturePatches(
+        grow_along_error(seeds, e, m_levels[0].matrix, fixed, adaptive.max_size), fixed));
+    m_patches.factor(m_levels[0].matrix);
+  }
 }
 
 void TetMultigrid::update_coarse(GalerkinMethod method) {

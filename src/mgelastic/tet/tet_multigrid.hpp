@@ -27,6 +27,7 @@
 #include "mgelastic/tet/cluster_smoother.hpp"
 #include "mgelastic/tet/feature_patches.hpp"
 #include "mgelastic/tet/galerkin_product.hpp"
+#include "mgelastic/tet/patch_seeds.hpp"
 #include "mgelastic/tet/tet_hierarchy.hpp"
 
 namespace mgelastic::tet {
@@ -57,6 +58,11 @@ struct TetMultigridSettings {
   // tetgen armadillo 18k / 28k / 67k symmetric 0.29 / 0.43 / 0.55 -> 0.07 / 0.09 / 0.24, at ~2x
   // the symmetric V-cycle's CPU time (docs/tet-engine.md, Convergence).
   FeaturePatchSettings patches;
+  // More feature patches where the cycle's own slow error concentrates, found at the first
+  // update() (patch_seeds.hpp; off by default). With 10 rounds on top of the valence-7 patches:
+  // tetgen armadillo 0.07 / 0.09 / 0.08, bunny 0.10 / 0.08 / 0.10 (size-independent), at 2.8-4
+  // s setup CPU on the finest meshes (docs/tet-engine.md, Convergence).
+  AdaptivePatchSettings adaptive_patches;
 };
 
 // Residual norms of one traced V-cycle per level (cycle_traced): after restriction (entry), after
@@ -127,6 +133,9 @@ class TetMultigrid {
   // The smoother of a level (not the coarsest); partitioned at the first update().
   const ClusterSmoother& smoother(int level) const { return m_levels[level].smoother; }
   const FeaturePatches& patches() const { return m_patches; }
+  // Per adaptive-patch round: the power iteration's contraction before that round's patches
+  // (the last one at or below the target ends the seeding).
+  const std::vector<double>& adaptive_contractions() const { return m_adaptive_contractions; }
 
  private:
   struct Level {
@@ -144,12 +153,15 @@ class TetMultigrid {
   void cycle_level(int level, std::vector<LevelResiduals>* trace, bool symmetric_cycle) const;
   void sweeps(int level, int count, bool forward, bool symmetric_cycle) const;
   void finish_coarse_update();
+  void seed_adaptive_patches();
 
   TetMultigridSettings m_settings;
   TetHierarchy m_hierarchy;
   std::vector<Level> m_levels;
   std::unique_ptr<Coarsest> m_coarsest;
   FeaturePatches m_patches;  // fine level only
+  bool m_patches_seeded = false;
+  std::vector<double> m_adaptive_contractions;
   MultigridUpdateTimes m_times;
 };
 
