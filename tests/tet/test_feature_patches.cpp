@@ -224,20 +224,28 @@ namespace {
 
 // Externally chosen patches (patch_seeds.hpp) are kept as given and checked.
 TEST(FeaturePatches, ExplicitPatchesAreKeptAndValidated) {
-  std::vector<char> fixed(10, 0);
-  fixed[9] = 1;
-  const FeaturePatches patches({{2, 3, 4}, {7}}, fixed);
+  const geometry::TetMesh mesh = test::box_mesh(Eigen::Vector3d(1.0, 0.25, 0.25), 1.0 / 4);
+  const std::vector<char> fixed = left_end_fixed(mesh);
+  const BlockRowMatrix<double> a = test::stiff_step_matrix(mesh);
+  std::vector<int> free_vertices, fixed_vertices;
+  for (int v = 0; v < mesh.vertex_count(); ++v)
+    (fixed[v] != 0 ? fixed_vertices : free_vertices).push_back(v);
+  ASSERT_GE(free_vertices.size(), 6u);
+  ASSERT_FALSE(fixed_vertices.empty());
+  const int f0 = free_vertices[0], f1 = free_vertices[1], f2 = free_vertices[2];
+  const FeaturePatches patches({{f0, f1, f2}, {free_vertices[3]}}, fixed, a);
   ASSERT_EQ(patches.patch_count(), 2);
-  EXPECT_EQ(patches.patch(0), (std::vector<int>{2, 3, 4}));
-  EXPECT_EQ(patches.patch(1), (std::vector<int>{7}));
-  EXPECT_THROW(FeaturePatches({{}}, fixed), Error);
-  EXPECT_THROW(FeaturePatches({{1, 10}}, fixed), Error);
-  EXPECT_THROW(FeaturePatches({{1, 9}}, fixed), Error);
-  EXPECT_THROW(FeaturePatches({{1, 2, 1}}, fixed), Error);
+  EXPECT_EQ(patches.patch(0), (std::vector<int>{f0, f1, f2}));
+  EXPECT_EQ(patches.patch(1), (std::vector<int>{free_vertices[3]}));
+  EXPECT_THROW(FeaturePatches({{}}, fixed, a), Error);
+  EXPECT_THROW(FeaturePatches({{f0, mesh.vertex_count()}}, fixed, a), Error);
+  EXPECT_THROW(FeaturePatches({{f0, fixed_vertices[0]}}, fixed, a), Error);
+  EXPECT_THROW(FeaturePatches({{f0, f1, f0}}, fixed, a), Error);
   FeaturePatches appended = patches;
-  appended.append(FeaturePatches({{5, 6}}, fixed));
+  appended.append(FeaturePatches({{free_vertices[4], free_vertices[5]}}, fixed, a), a);
   ASSERT_EQ(appended.patch_count(), 3);
-  EXPECT_EQ(appended.patch(2), (std::vector<int>{5, 6}));
+  EXPECT_EQ(appended.patch(2), (std::vector<int>{free_vertices[4], free_vertices[5]}));
+  EXPECT_GE(appended.color_count(), 1);
 }
 
 }  // namespace

@@ -52,21 +52,38 @@ FeaturePatches::FeaturePatches(const geometry::TetMesh& mesh, const std::vector<
     fail("pattern or constraints do not match the mesh's " + std::to_string(mesh.vertex_count()) +
          " vertices");
   if (settings.max_valence <= 0) return;
-  m_max_size = settings.max_size;
   // Selection: a patch around every free vertex in <= max_valence tets.
   std::vector<int> valence(mesh.vertex_count(), 0);
   for (int t = 0; t < mesh.tet_count(); ++t)
     for (int a = 0; a < 4; ++a) ++valence[mesh.tets(t, a)];
+  std::vector<std::vector<int>> patches;
   for (int v = 0; v < mesh.vertex_count(); ++v)
-    if (valence[v] <= settings.max_valence && constrained[v] == 0) {
-      const std::vector<int> patch = grow_patch(v, pattern, constrained, settings.max_size);
-      m_vertices.insert(m_vertices.end(), patch.begin(), patch.end());
-      m_vertex_offsets.push_back(static_cast<int>(m_vertices.size()));
-    }
+    if (valence[v] <= settings.max_valence && constrained[v] == 0)
+      patches.push_back(grow_patch(v, pattern, constrained, settings.max_size));
+  build(patches, pattern);
+}
+
+// Storage, A_PP's block indices, factor offsets and colours of `patches`.
+void FeaturePatches::build(const std::vector<std::vector<int>>& list,
+                           const BlockRowMatrix<double>& pattern) {
+  const int vertex_count = pattern.block_rows();
+  m_max_size = 0;
+  m_vertex_offsets.assign(1, 0);
+  m_vertices.clear();
+  m_block_offsets.assign(1, 0);
+  m_blocks.clear();
+  m_block_rows.clear();
+  m_block_columns.clear();
+  m_factor_offsets.assign(1, 0);
+  for (const std::vector<int>& patch : list) {
+    m_vertices.insert(m_vertices.end(), patch.begin(), patch.end());
+    m_vertex_offsets.push_back(static_cast<int>(m_vertices.size()));
+    m_max_size = std::max(m_max_size, static_cast<int>(patch.size()));
+  }
   const int patches = patch_count();
 
   // Blocks of each A_PP on or below its diagonal, and the packed factor offsets.
-  std::vector<int> local(mesh.vertex_count(), -1);
+  std::vector<int> local(vertex_count, -1);
   for (int p = 0; p < patches; ++p) {
     const int first = m_vertex_offsets[p], m = m_vertex_offsets[p + 1] - first;
     for (int r = 0; r < m; ++r) local[m_vertices[first + r]] = r;
@@ -88,9 +105,9 @@ FeaturePatches::FeaturePatches(const geometry::TetMesh& mesh, const std::vector<
 
   // Greedy colouring in patch order: a patch takes the first colour not used by a patch that
   // holds one of its vertices or their matrix neighbours.
-  std::vector<int> holder_offsets(mesh.vertex_count() + 1, 0), holders(m_vertices.size());
+  std::vector<int> holder_offsets(vertex_count + 1, 0), holders(m_vertices.size());
   for (const int v : m_vertices) ++holder_offsets[v + 1];
-  for (int v = 0; v < mesh.vertex_count(); ++v) holder_offsets[v + 1] += holder_offsets[v];
+  for (int v = 0; v < vertex_count; ++v) holder_offsets[v + 1] += holder_offsets[v];
   {
     std::vector<int> fill(holder_offsets.begin(), holder_offsets.end() - 1);
     for (int p = 0; p < patches; ++p)
@@ -127,11 +144,12 @@ std::vector<int> FeaturePatches::color_patches(int k) const {
   return {m_order.begin() + m_color_offsets[k], m_order.begin() + m_color_offsets[k + 1]};
 }
 
-FeaturePatches::FeaturePatches(std::vector<std::vector<int>> patches,
-                               const std::vector<char>& constrained)
-    : m_patches(std::move(patches)) {
+FeaturePatches::FeaturePatches(const std::vector<std::vector<int>>& patches,
+                               const std::vector<char>& constrained,
+                               const BlockRowMatrix<double>& pattern) {
   const int n = static_cast<int>(constrained.size());
-  for (const std::vector<int>& patch : m_patches) {
+  if (pattern.block_rows() != n) fail("pattern and constraints differ in their vertex counts");
+  for (const std::vector<int>& patch : patches) {
     if (patch.empty()) fail("empty patch");
     for (std::size_t i = 0; i < patch.size(); ++i) {
       const int v = patch[i];
@@ -142,11 +160,15 @@ FeaturePatches::FeaturePatches(std::vector<std::vector<int>> patches,
         fail("patch vertex " + std::to_string(v) + " repeated");
     }
   }
+  build(patches, pattern);
 }
 
-void FeaturePatches::append(const FeaturePatches& more) {
-  m_patches.insert(m_patches.end(), more.m_patches.begin(), more.m_patches.end());
-  m_inverses.clear();
+void FeaturePatches::append(const FeaturePatches& more, const BlockRowMatrix<double>& pattern) {
+  std::vector<std::vector<int>> all;
+  all.reserve(static_cast<std::size_t>(patch_count() + more.patch_count()));
+  for (int p = 0; p < patch_count(); ++p) all.push_back(patch(p));
+  for (int p = 0; p < more.patch_count(); ++p) all.push_back(more.patch(p));
+  build(all, pattern);
 }
 
 void FeaturePatches::factor(const BlockRowMatrix<double>& a) {

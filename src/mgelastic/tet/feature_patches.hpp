@@ -46,9 +46,10 @@ class FeaturePatches {
                  const BlockRowMatrix<double>& pattern, const FeaturePatchSettings& settings);
   // Externally chosen patches (patch_seeds.hpp: grown along the cycle's slow error). Throws Error
   // for an empty patch, a vertex out of range or repeated in a patch, or a constrained vertex.
-  FeaturePatches(std::vector<std::vector<int>> patches, const std::vector<char>& constrained);
-  // Appends the patches of `more` (factor() again before the next pass).
-  void append(const FeaturePatches& more);
+  FeaturePatches(const std::vector<std::vector<int>>& patches, const std::vector<char>& constrained,
+                 const BlockRowMatrix<double>& pattern);
+  // Appends the patches of `more` and colours all again (factor() before the next pass).
+  void append(const FeaturePatches& more, const BlockRowMatrix<double>& pattern);
 
   int patch_count() const { return static_cast<int>(m_vertex_offsets.size()) - 1; }
   // The vertices of patch p (the seed first).
@@ -65,6 +66,7 @@ class FeaturePatches {
   std::size_t factor_memory_bytes() const { return m_factors.size() * sizeof(double); }
 
  private:
+  void build(const std::vector<std::vector<int>>& patches, const BlockRowMatrix<double>& pattern);
   // x_P += A_PP^{-1} (b - A x)_P for patch p; `r` is scratch of at least 3 max_size.
   void solve_patch(int p, const BlockRowMatrix<double>& a, const Eigen::VectorXd& b,
                    Eigen::VectorXd& x, double* r) const;

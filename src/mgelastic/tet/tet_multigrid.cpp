@@ -107,8 +107,10 @@ void TetMultigrid::seed_adaptive_patches() {
         slow_error_seeds(e, m_levels[0].matrix, fixed, seeded, adaptive.threshold, max_seeds);
     if (seeds.empty()) break;
     for (const int v : seeds) seeded[v] = 1;
-    m_patches.append(FeaturePatches(
-        grow_along_error(seeds, e, m_levels[0].matrix, fixed, adaptive.max_size), fixed));
+    m_patches.append(
+        FeaturePatches(grow_along_error(seeds, e, m_levels[0].matrix, fixed, adaptive.max_size),
+                       fixed, m_levels[0].matrix),
+        m_levels[0].matrix);
     m_patches.factor(m_levels[0].matrix);
   }
 }
