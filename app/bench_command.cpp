@@ -382,7 +382,7 @@ void run_vcycle_profile(const std::vector<int>& sizes, const std::vector<int>& t
 struct TetStepOptions {
   std::vector<int> cells{8, 11, 14};
   std::vector<std::string> meshes;
-  int refine = 0, steps = 5, threads = 0, coarsest = 300, vcycles = 1;
+  int refine = 0, steps = 5, threads = 0, coarsest = 300, vcycles = 1, adaptive_patches = 0;
   double tolerance = 1e-6, cell_factor = 1.587;
   std::string rotation = "energy";
   std::string patches;  // "VALENCE[,SIZE]": feature patches (tet/feature_patches.hpp)
@@ -445,6 +445,7 @@ void run_tet_step(const TetStepOptions& o) {
   base.multigrid.symmetric_sweeps = o.symmetric;
   base.multigrid.lexicographic = o.lexicographic;
   base.multigrid.patches = parse_feature_patches(o.patches);
+  base.multigrid.adaptive_patches.rounds = o.adaptive_patches;
   base.steps_only = o.steps_only;
   if (o.hypre) base.external_solver = tet_boomeramg;
   base.rotation = o.rotation == "polar"            ? tet::RotationMethod::POLAR
@@ -493,6 +494,7 @@ void run_tet_step(const TetStepOptions& o) {
                     {"lexicographic_smoother", o.lexicographic},
                     {"feature_patch_max_valence", base.multigrid.patches.max_valence},
                     {"feature_patch_max_size", base.multigrid.patches.max_size},
+                    {"adaptive_patch_rounds", base.multigrid.adaptive_patches.rounds},
                     {"feature_patches", r.feature_patches},
                     {"feature_patch_colors", r.feature_patch_colors},
                     {"boomeramg_available", r.external.available},
@@ -609,6 +611,11 @@ void register_bench_commands(CLI::App& app) {
   tet_step->add_option("--patches", tet_options.patches,
                        "Feature patches VALENCE[,SIZE]: block solves around vertices in <= "
                        "VALENCE tets, SIZE (12) vertices each (e.g. 7 or 7,12; off by default)");
+  tet_step
+      ->add_option("--adaptive-patches", tet_options.adaptive_patches,
+                   "At most ROUNDS rounds of adaptive patches at the first step (power iterations "
+                   "of the V-cycle's error; tet/patch_seeds.hpp); 0 = off")
+      ->check(CLI::Range(0, 100));
   tet_step->add_option("--steps", tet_options.steps, "Measured steps (after one warm-up)");
   tet_step->add_option("--tolerance", tet_options.tolerance,
                        "Relative residual of the baseline solves");

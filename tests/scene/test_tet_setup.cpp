@@ -141,10 +141,16 @@ TEST(TetSetup, FeaturePatchesComeFromTheScene) {
             0);
   auto scene = bar_scene();
   scene["tet"]["linear_solver"] = "multigrid";
-  scene["tet"]["feature_patches"] = {{"max_valence", 7}, {"max_size", 10}};
+  scene["tet"]["feature_patches"] = {{"max_valence", 7}, {"max_size", 10}, {"adaptive_rounds", 4}};
   const TetSetup setup = build_tet_setup(parse_scene(scene, "scene.json", "."));
   EXPECT_EQ(setup.settings.multigrid.patches.max_valence, 7);
   EXPECT_EQ(setup.settings.multigrid.patches.max_size, 10);
+  EXPECT_EQ(setup.settings.multigrid.adaptive_patches.rounds, 4);
+  scene["tet"]["feature_patches"]["adaptive_rounds"] = -1;
+  const std::string rounds_error = error_of(scene);
+  EXPECT_EQ(rounds_error.rfind("scene.json: /tet/feature_patches/adaptive_rounds: ", 0), 0u)
+      << rounds_error;
+  scene["tet"]["feature_patches"]["adaptive_rounds"] = 4;
   scene["tet"]["feature_patches"]["max_size"] = 0;
   const std::string error = error_of(scene);
   EXPECT_EQ(error.rfind("scene.json: /tet/feature_patches/max_size: ", 0), 0u) << error;

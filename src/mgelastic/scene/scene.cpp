@@ -92,7 +92,8 @@ Scene parse_scene(const nlohmann::json& document, const std::string& file,
   s.tet = {tet["rotation"],       tet["resolution"], tet["linear_solver"], tet["tolerance"],
            tet["max_iterations"], tet["vcycles"],    tet["smoother"]};
   s.tet.feature_patches = {tet["feature_patches"]["max_valence"],
-                           tet["feature_patches"]["max_size"]};
+                           tet["feature_patches"]["max_size"],
+                           tet["feature_patches"]["adaptive_rounds"]};
   s.surface_interpolation = d["output"]["surface"]["interpolation"];
   s.surface_spacing = d["output"]["surface"]["spacing"];
   s.tolerance = d["solver"]["tolerance"];

@@ -61,6 +61,7 @@ struct Scene {
     struct FeaturePatches {
       int max_valence = 0;  // 0 = none
       int max_size = 12;
+      int adaptive_rounds = 0;  // 0 = none
     } feature_patches;
   } tet;
   std::string surface_interpolation = "tricubic";

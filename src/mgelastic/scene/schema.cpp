@@ -214,7 +214,14 @@ Field build_schema() {
                        "V-cycle)",
                        0, 0),
                integer("max_size", "Vertices per patch (the seed and its nearest neighbours)", 12,
-                       1, 64)})});
+                       1, 64),
+               integer("adaptive_rounds",
+                       "At most this many rounds of adaptive patches at the first step: power "
+                       "iterations of the V-cycle find where its error concentrates and patches "
+                       "grow there, until the cycle contracts by <= 0.1; 0 = off (10 with "
+                       "max_valence 7 and symmetric sweeps makes the tetgen armadillo and bunny "
+                       "size-independent)",
+                       0, 0, 100)})});
   Field surface = object(
       "surface", "Deformed embedded surface (grid engine, Sec. 9.3)",
       {choice("interpolation", "How surface points follow the lattice", "tricubic",

@@ -112,6 +112,7 @@ tet::CorotatedSolverSettings solver_settings(const Scene& scene) {
   s.vcycles = scene.tet.vcycles;
   s.multigrid.symmetric_sweeps = scene.tet.smoother == "symmetric_gauss_seidel";
   s.multigrid.patches = {scene.tet.feature_patches.max_valence, scene.tet.feature_patches.max_size};
+  s.multigrid.adaptive_patches.rounds = scene.tet.feature_patches.adaptive_rounds;
   s.pcg.tolerance = scene.tet.tolerance;
   s.pcg.max_iterations = scene.tet.max_iterations;
   return s;
