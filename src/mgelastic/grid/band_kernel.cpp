@@ -4,25 +4,10 @@
 #include <string>
 #include <unordered_map>
 
+#include "mgelastic/core/bytes.hpp"
 #include "mgelastic/grid/level.hpp"
 
 namespace mgelastic::grid {
-namespace {
-
-template <typename T>
-void append_bytes(std::string& key, const T& value) {
-  char bytes[sizeof(T)];
-  std::memcpy(bytes, &value, sizeof(T));
-  key.append(bytes, sizeof(T));
-}
-
-template <typename T>
-std::size_t vector_bytes(const std::vector<T>& v) {
-  return v.capacity() * sizeof(T);
-}
-
-}  // namespace
-
 template <typename Scalar>
 std::size_t BandKernel<Scalar>::bytes() const {
   return vector_bytes(pattern) + vector_bytes(target) + vector_bytes(field) + vector_bytes(rhs) +

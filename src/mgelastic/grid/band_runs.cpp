@@ -5,22 +5,11 @@
 #include <string>
 #include <unordered_map>
 
+#include "mgelastic/core/bytes.hpp"
 #include "mgelastic/grid/level.hpp"
 
 namespace mgelastic::grid {
 namespace {
-
-template <typename T>
-void append_bytes(std::string& key, const T& value) {
-  char bytes[sizeof(T)];
-  std::memcpy(bytes, &value, sizeof(T));
-  key.append(bytes, sizeof(T));
-}
-
-template <typename T>
-std::size_t vector_bytes(const std::vector<T>& v) {
-  return v.capacity() * sizeof(T);
-}
 
 // One step of a block's sweep: a cell block (members solved together) or the point rows of one
 // location (relaxed in order).

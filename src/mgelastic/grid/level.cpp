@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 #include <cstdlib>
 
+#include "mgelastic/core/bytes.hpp"
 #include "mgelastic/grid/explicit_rows.hpp"
 #include "mgelastic/grid/huge_pages.hpp"
 
@@ -538,11 +539,6 @@ std::size_t Level<Dim, Scalar>::interior_unknowns() const {
   std::size_t count = 0;
   for (const auto& field : kind) count += std::count(field.begin(), field.end(), VarKind::INTERIOR);
   return count;
-}
-
-template <typename T>
-std::size_t vector_bytes(const std::vector<T>& v) {
-  return v.capacity() * sizeof(T);
 }
 
 template <int Dim, typename Scalar>
