@@ -1,73 +1,77 @@
-#!/usr/bin/env python3
-"""Renders a strip of deformed-surface frames (OBJ files written by `mgelastic run`) into one PNG,
-orthographic view along -z, flat-shaded with a z-buffer. Pure Python (no numpy), so it runs on the
-build machine; meant for README figures of a few frames at a few hundred pixels.
+#!/usr/bin/python3
+"""Renders a strip of deformed-surface frames (OBJ files written by `mgelastic run`) into one PNG
+with matplotlib: orthographic view along -z, flat shading by the face normal, painter's order.
+Meant for README and docs figures of a few frames.
 
-  scripts/render_frames.py OUT.png FRAME.obj [FRAME.obj ...] [--height 220] [--labels t0,t1,...]"""
-import struct, sys, zlib
+  scripts/render_frames.py OUT.png FRAME.obj [FRAME.obj ...] [--height 220] [--labels t0,t1,...]
+
+Needs numpy and matplotlib (Debian python3-numpy python3-matplotlib)."""
+import argparse
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.collections import PolyCollection  # noqa: E402
 
 
 def read_obj(path):
-    v, f = [], []
+    """Vertices (n, 3) and triangles (m, 3) of an OBJ file (polygons fanned into triangles)."""
+    vertices, triangles = [], []
     with open(path) as fh:
         for line in fh:
             if line.startswith("v "):
-                v.append(tuple(float(x) for x in line.split()[1:4]))
+                vertices.append([float(x) for x in line.split()[1:4]])
             elif line.startswith("f "):
-                f.append(tuple(int(x.split("/")[0]) - 1 for x in line.split()[1:4]))
-    return v, f
+                ids = [int(x.split("/")[0]) - 1 for x in line.split()[1:]]
+                triangles.extend([ids[0], ids[k], ids[k + 1]] for k in range(1, len(ids) - 1))
+    if not vertices or not triangles:
+        raise SystemExit(f"{path}: no vertices or faces")
+    return np.array(vertices), np.array(triangles)
 
 
-def write_png(path, width, height, rows):
-    raw = b"".join(b"\x00" + bytes(r) for r in rows)
-    def chunk(kind, data):
-        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
-    png = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0))
-    png += chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b"")
-    open(path, "wb").write(png)
+def shaded_polygons(vertices, triangles):
+    """Triangles projected on the xy plane, back to front, with a grey level from |n_z|."""
+    corners = vertices[triangles]
+    normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    lengths = np.linalg.norm(normals, axis=1)
+    keep = lengths > 0
+    corners, normals, lengths = corners[keep], normals[keep], lengths[keep]
+    order = np.argsort(corners[:, :, 2].mean(axis=1))  # farthest (smallest z) first
+    shade = 0.25 + 0.75 * np.abs(normals[order, 2]) / lengths[order]
+    colors = np.outer(shade, [90 / 255, 140 / 255, 220 / 255])
+    return corners[order, :, :2], colors
 
 
 def main():
-    args = sys.argv[1:]
-    height = 220
-    if "--height" in args:
-        i = args.index("--height"); height = int(args[i + 1]); del args[i:i + 2]
-    out, frames = args[0], [read_obj(p) for p in args[1:]]
-    xs = [p[0] for v, _ in frames for p in v]; ys = [p[1] for v, _ in frames for p in v]
-    x0, x1, y0, y1 = min(xs), max(xs), min(ys), max(ys)
-    scale = (height - 10) / (y1 - y0)
-    panel = int((x1 - x0) * scale) + 10
-    width = panel * len(frames)
-    color = [[255, 255, 255] * width for _ in range(height)]
-    depth = [[-1e30] * width for _ in range(height)]
-    for n, (v, faces) in enumerate(frames):
-        ox = n * panel + 5
-        P = [(ox + (p[0] - x0) * scale, height - 5 - (p[1] - y0) * scale, p[2]) for p in v]
-        for a, b, c in faces:
-            (ax, ay, az), (bx, by, bz), (cx, cy, cz) = P[a], P[b], P[c]
-            area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
-            if area == 0:
-                continue
-            # Shade by the 3D normal's z component (light from the viewer).
-            ux, uy, uz = v[b][0] - v[a][0], v[b][1] - v[a][1], v[b][2] - v[a][2]
-            wx, wy, wz = v[c][0] - v[a][0], v[c][1] - v[a][1], v[c][2] - v[a][2]
-            nx, ny, nz = uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx
-            norm = (nx * nx + ny * ny + nz * nz) ** 0.5 or 1.0
-            shade = 0.25 + 0.75 * abs(nz) / norm
-            rgb = (int(90 * shade), int(140 * shade), int(220 * shade))
-            for py in range(max(0, int(min(ay, by, cy))), min(height, int(max(ay, by, cy)) + 1)):
-                for px in range(max(0, int(min(ax, bx, cx))), min(width, int(max(ax, bx, cx)) + 1)):
-                    qx, qy = px + 0.5, py + 0.5
-                    w0 = ((bx - qx) * (cy - qy) - (by - qy) * (cx - qx)) / area
-                    w1 = ((cx - qx) * (ay - qy) - (cy - qy) * (ax - qx)) / area
-                    w2 = 1 - w0 - w1
-                    if w0 < 0 or w1 < 0 or w2 < 0:
-                        continue
-                    z = w0 * az + w1 * bz + w2 * cz
-                    if z > depth[py][px]:
-                        depth[py][px] = z
-                        color[py][3 * px:3 * px + 3] = rgb
-    write_png(out, width, height, color)
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("out")
+    parser.add_argument("frames", nargs="+")
+    parser.add_argument("--height", type=int, default=220, help="image height in pixels")
+    parser.add_argument("--labels", default="", help="comma-separated captions, one per frame")
+    args = parser.parse_args()
+    meshes = [read_obj(p) for p in args.frames]
+    labels = args.labels.split(",") if args.labels else []
+    points = np.concatenate([v for v, _ in meshes])
+    (x0, y0), (x1, y1) = points[:, :2].min(axis=0), points[:, :2].max(axis=0)
+    pad = 0.04 * max(x1 - x0, y1 - y0)
+    panel_aspect = (x1 - x0 + 2 * pad) / (y1 - y0 + 2 * pad)
+    dpi = 100
+    height = args.height / dpi
+    fig, axes = plt.subplots(1, len(meshes), figsize=(height * panel_aspect * len(meshes), height),
+                             dpi=dpi, squeeze=False)
+    for n, (ax, (vertices, triangles)) in enumerate(zip(axes[0], meshes)):
+        polygons, colors = shaded_polygons(vertices, triangles)
+        ax.add_collection(PolyCollection(polygons, facecolors=colors, edgecolors="none"))
+        ax.set_xlim(x0 - pad, x1 + pad)
+        ax.set_ylim(y0 - pad, y1 + pad)
+        ax.set_aspect("equal")
+        ax.axis("off")
+        if n < len(labels):
+            ax.set_title(labels[n], fontsize=8)
+    fig.subplots_adjust(left=0, right=1, bottom=0, top=0.9 if labels else 1, wspace=0)
+    fig.savefig(args.out, facecolor="white")
 
 
 if __name__ == "__main__":

@@ -1,4 +1,4 @@
-"""A diverging solve stops `mgelastic run` cleanly (docs/reliability.md, "Divergence diagnosis"):
+"""A diverging solve stops `mgelastic run` cleanly (docs/reliability.md, "Divergence handling"):
 exit code 2, a message with the residual history and the diagnosis, every frame before the
 failing one complete (listed in the .pvd, parses, finite fields) and a checkpoint of the last
 good frame.

@@ -249,7 +249,7 @@ TEST(TetSetup, MaterialRegionSelectingNothingNamesItsPointer) {
 // A traction t on the free end face of a bar clamped at the other end: the lumped forces add up
 // to t times the face area, and with nu = 0 the uniform uniaxial stress is exact for linear tets,
 // so the static end displacement is t L / E. Asserted to 1e-3 relative: a ~5e-4 relative
-// deviation at some vertices is not explained yet (docs/tet-engine.md, Left for later).
+// deviation at some vertices is not explained yet (docs/tet-engine.md, Known limits).
 TEST(TetSetup, EndTractionGivesTheUniaxialStretch) {
   auto d = nlohmann::json::parse(R"({
     "engine": "tet",
