@@ -60,7 +60,7 @@ std::vector<io::SeriesEntry> write_frame(const grid::Multigrid<3, Scalar>& mg,
   std::vector<io::SeriesEntry> entries;
   if (wants(s, "vtk")) {
     const std::string name = frame_name("grid", frame, "vti");
-    io::write_vti(dir / name, grid_fields(mg, u, s));
+    io::write_vti(dir / name, grid_fields(mg, u, s), vtk_encoding(s));
     entries.push_back({time, name, 0});
   }
   const auto& rest = setup.surface.vertices;
@@ -74,7 +74,7 @@ std::vector<io::SeriesEntry> write_frame(const grid::Multigrid<3, Scalar>& mg,
     io::DataArray displacement{"displacement", 3, {}};
     const grid::PointRows d = deformed - rest;
     displacement.values.assign(d.data(), d.data() + d.size());
-    io::write_vtp(dir / name, deformed, triangles, {displacement});
+    io::write_vtp(dir / name, deformed, triangles, {displacement}, vtk_encoding(s));
     entries.push_back({time, name, 1});
   }
   if (wants(s, "obj"))
