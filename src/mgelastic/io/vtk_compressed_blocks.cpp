@@ -12,16 +12,22 @@
 namespace mgelastic::io {
 namespace {
 
-// One block as a zlib stream; an empty string when zlib fails.
+// One block as a zlib stream (what VTK inflates with uncompress); an empty string when zlib
+// fails. Z_RLE: float mantissas hold almost no repeated strings, so searching for them (the
+// default strategy) costs twice the time for ~10% smaller files; runs (zeros outside the body)
+// and the entropy of exponent bytes are still coded.
 std::string compress_block(std::span<const std::byte> block) {
-  uLongf size = compressBound(static_cast<uLong>(block.size()));
-  std::string compressed(size, '\0');
-  const int status =
-      compress2(reinterpret_cast<Bytef*>(compressed.data()), &size,
-                reinterpret_cast<const Bytef*>(block.data()), block.size(), Z_BEST_SPEED);
-  if (status != Z_OK) return {};
-  compressed.resize(size);
-  return compressed;
+  z_stream stream{};
+  if (deflateInit2(&stream, Z_BEST_SPEED, Z_DEFLATED, 15, 8, Z_RLE) != Z_OK) return {};
+  std::string compressed(deflateBound(&stream, static_cast<uLong>(block.size())), '\0');
+  stream.next_in = reinterpret_cast<Bytef*>(const_cast<std::byte*>(block.data()));
+  stream.avail_in = static_cast<uInt>(block.size());
+  stream.next_out = reinterpret_cast<Bytef*>(compressed.data());
+  stream.avail_out = static_cast<uInt>(compressed.size());
+  const int status = deflate(&stream, Z_FINISH);
+  compressed.resize(stream.total_out);
+  deflateEnd(&stream);
+  return status == Z_STREAM_END ? compressed : std::string();
 }
 
 }  // namespace

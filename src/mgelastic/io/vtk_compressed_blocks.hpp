@@ -19,8 +19,9 @@ namespace mgelastic::io {
 // Large blocks keep the header short and let threads share the work; ParaView reads any size.
 inline constexpr std::size_t kVtkBlockBytes = std::size_t(1) << 18;
 
-// Appends the header and the compressed blocks of `data` to `out`. zlib level 1 (Z_BEST_SPEED):
-// lattice frames are large and written every frame; a higher level gains little on float data.
+// Appends the header and the compressed blocks of `data` to `out`. zlib level 1 with run-length
+// matching only (Z_BEST_SPEED, Z_RLE): lattice frames are large and written every frame, and
+// searching harder gains little on float data. `block_bytes` must be below 4 GiB.
 // Throws mgelastic::Error when zlib fails (out of memory).
 void append_compressed_blocks(std::string& out, std::span<const std::byte> data,
                               std::size_t block_bytes = kVtkBlockBytes);
