@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <type_traits>
 
 #include "frame_files.hpp"
 #include "interruption.hpp"
@@ -33,8 +34,10 @@ io::ImageData grid_fields(const grid::Multigrid<3, Scalar>& mg, const grid::Node
   image.cells = level.lattice.cells;
   image.spacing = level.lattice.h;
   image.origin = level.lattice.origin;
-  image.point_data.push_back({"displacement", 3, u.values});
-  io::DataArray type{"cell_type", 1, {}}, pressure{"pressure", 1, {}};
+  // Fields of a single-precision solve are stored as Float32: half the bytes to write.
+  const auto real = std::is_same_v<Scalar, float> ? io::VtkScalar::FLOAT32 : io::VtkScalar::FLOAT64;
+  image.point_data.push_back({"displacement", 3, u.values, real});
+  io::DataArray type{"cell_type", 1, {}, io::VtkScalar::UINT8}, pressure{"pressure", 1, {}, real};
   const auto& n = level.lattice.cells;
   std::size_t c = 0;
   for (int k = 1; k <= n[2]; ++k)
@@ -46,7 +49,7 @@ io::ImageData grid_fields(const grid::Multigrid<3, Scalar>& mg, const grid::Node
         pressure.values.push_back(interior ? mg.solution(3, cell) : 0.0);
         if (level.cells[cell] == grid::CellType::EXTERIOR) von_mises[c] = 0.0;
       }
-  image.cell_data = {type, pressure, {"von_mises", 1, von_mises}};
+  image.cell_data = {type, pressure, {"von_mises", 1, von_mises, real}};
   return image;
 }
 
@@ -60,7 +63,7 @@ std::vector<io::SeriesEntry> write_frame(const grid::Multigrid<3, Scalar>& mg,
   std::vector<io::SeriesEntry> entries;
   if (wants(s, "vtk")) {
     const std::string name = frame_name("grid", frame, "vti");
-    io::write_vti(dir / name, grid_fields(mg, u, s));
+    io::write_vti(dir / name, grid_fields(mg, u, s), vtk_encoding(s));
     entries.push_back({time, name, 0});
   }
   const auto& rest = setup.surface.vertices;
@@ -74,7 +77,7 @@ std::vector<io::SeriesEntry> write_frame(const grid::Multigrid<3, Scalar>& mg,
     io::DataArray displacement{"displacement", 3, {}};
     const grid::PointRows d = deformed - rest;
     displacement.values.assign(d.data(), d.data() + d.size());
-    io::write_vtp(dir / name, deformed, triangles, {displacement});
+    io::write_vtp(dir / name, deformed, triangles, {displacement}, vtk_encoding(s));
     entries.push_back({time, name, 1});
   }
   if (wants(s, "obj"))

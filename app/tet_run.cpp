@@ -70,13 +70,14 @@ std::vector<io::SeriesEntry> write_frame(const scene::Scene& s, const scene::Tet
     const geometry::VtuField point_fields[] = {{"displacement", displacement}};
     const geometry::VtuField cell_fields[] = {
         {"von_mises", von_mises_stress(solver.body(), solver.positions())}};
-    geometry::write_vtu(dir / name, deformed, point_fields, cell_fields);
+    geometry::write_vtu(dir / name, deformed, point_fields, cell_fields, vtk_encoding(s));
     entries.push_back({time, name, 0});
     const std::string surface_name = frame_name("surface", frame, "vtp");
     io::DataArray surface_displacement{"displacement", 3, {}};
     for (int v : surface.mesh_vertex)
       for (int k = 0; k < 3; ++k) surface_displacement.values.push_back(displacement(v, k));
-    io::write_vtp(dir / surface_name, surface_vertices, surface.triangles, {surface_displacement});
+    io::write_vtp(dir / surface_name, surface_vertices, surface.triangles, {surface_displacement},
+                  vtk_encoding(s));
     entries.push_back({time, surface_name, 1});
   }
   if (wants(s, "obj"))

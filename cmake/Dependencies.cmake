@@ -2,6 +2,8 @@
 find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(OpenMP REQUIRED COMPONENTS CXX)
 find_package(nlohmann_json 3.10 REQUIRED)
+# zlib compresses the binary data of the VTK XML outputs (vtkZLibDataCompressor).
+find_package(ZLIB REQUIRED)
 
 # SuiteSparse CHOLMOD: sparse Cholesky for the coarsest multigrid level and tet hierarchies.
 find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)

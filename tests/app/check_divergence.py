@@ -11,6 +11,8 @@ good frame.
 import json, math, os, shutil, subprocess, sys
 import xml.etree.ElementTree as E
 
+import vtk_xml  # tests/app: reads binary and ASCII VTK files
+
 cli, mode = sys.argv[1], sys.argv[2]
 keyframes = [{"time": 0}, {"time": 0.35, "translate": [0.02, 0, 0]},
              {"time": 0.45, "translate": [2e36 if mode == "grid" else 2e200, 0, 0]}]
@@ -54,9 +56,7 @@ series = [d.get("file") for d in E.parse(f"{out}/simulation.pvd").getroot().iter
 stem, ext = ("grid", "vti") if mode == "grid" else ("tet", "vtu")
 assert series == [f"{s}_{k:04d}.{e}" for k in range(3) for s, e in ((stem, ext), ("surface", "vtp"))], series
 for name in series:
-    root = E.parse(os.path.join(out, name)).getroot()
-    values = [float(x) for a in root.iter("DataArray") if a.get("Name") == "displacement"
-              for x in a.text.split()]
+    values = vtk_xml.read(os.path.join(out, name))[1]["displacement"]
     assert values and all(math.isfinite(v) for v in values), name
 assert not os.path.exists(f"{out}/{stem}_0003.{ext}")
 assert not [f for f in os.listdir(out) if f.endswith(".tmp")]

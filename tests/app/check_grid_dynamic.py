@@ -5,6 +5,8 @@ u_y = g h^2 n (n + 1) / 2 after n steps of length h, u_x = v0 n h."""
 import json, subprocess, sys
 import xml.etree.ElementTree as E
 
+import vtk_xml  # tests/app: reads binary and ASCII VTK files
+
 cli = sys.argv[1]
 dt, substeps, frames, g, v0 = 0.05, 2, 3, -9.81, 0.4
 scene = {
@@ -27,9 +29,7 @@ assert series == [f"{s}_{k:04d}.{e}" for k in range(frames)
 h = dt / substeps
 for frame in range(frames):
     n = (frame + 1) * substeps
-    root = E.parse(f"grid_dynamic_out/surface_{frame:04d}.vtp").getroot()
-    u = [float(x) for a in root.iter("DataArray") if a.get("Name") == "displacement"
-         for x in a.text.split()]
+    u = vtk_xml.read(f"grid_dynamic_out/surface_{frame:04d}.vtp")[1]["displacement"]
     uy, ux = g * h * h * n * (n + 1) / 2, v0 * n * h
     assert max(abs(x - ux) for x in u[0::3]) < 1e-6, (frame, ux, min(u[0::3]), max(u[0::3]))
     assert max(abs(y - uy) for y in u[1::3]) < 1e-6, (frame, uy, min(u[1::3]), max(u[1::3]))

@@ -5,6 +5,8 @@ oriented meshes, and that the pulled end's displacement follows the keyframes.""
 import json, subprocess, sys
 import xml.etree.ElementTree as E
 
+import vtk_xml  # tests/app: reads binary and ASCII VTK files
+
 cli = sys.argv[1]
 scene = {
     "geometry": {"box": {"size": [1, 0.25, 0.25]}},
@@ -36,9 +38,7 @@ assert [t for _, _, t in series][::2] == [0.1, 0.2, 0.30000000000000004] or \
 
 
 def arrays(path):
-    root = E.parse(path).getroot()
-    return {a.get("Name"): [float(x) for x in a.text.split()] for a in root.iter("DataArray")
-            if a.get("Name")}
+    return vtk_xml.read(path)[1]
 
 
 grid = arrays("grid_run_out/grid_0002.vti")

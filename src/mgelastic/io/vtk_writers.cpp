@@ -1,6 +1,8 @@
 #include "mgelastic/io/vtk_writers.hpp"
 
+#include <functional>
 #include <iomanip>
+#include <sstream>
 
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/io/atomic_file.hpp"
@@ -8,63 +10,141 @@
 namespace mgelastic::io {
 namespace {
 
-void write_array(std::ostream& out, const DataArray& a, std::size_t tuples,
-                 const std::string& where) {
+template <typename T>
+void write_converted(std::ostream& out, VtkArrayEncoder& encoder, const std::string& attributes,
+                     const std::vector<double>& values) {
+  if constexpr (std::is_same_v<T, double>) {
+    encoder.write(out, attributes, std::span<const double>(values));
+  } else {
+    const std::vector<T> converted(values.begin(), values.end());
+    encoder.write(out, attributes, std::span<const T>(converted));
+  }
+}
+
+void write_array(std::ostream& out, VtkArrayEncoder& encoder, const DataArray& a,
+                 std::size_t tuples, const std::filesystem::path& path) {
   if (a.values.size() != tuples * static_cast<std::size_t>(a.components))
     throw Error("array '" + a.name + "' has " + std::to_string(a.values.size()) +
                     " values, expected " + std::to_string(tuples * a.components),
-                ErrorContext{.file = where});
-  out << "<DataArray type=\"Float64\" Name=\"" << a.name << "\" NumberOfComponents=\""
-      << a.components << "\" format=\"ascii\">\n";
-  out << std::setprecision(9);
-  for (std::size_t i = 0; i < a.values.size(); ++i)
-    out << a.values[i] << ((i + 1) % 9 ? ' ' : '\n');
-  out << "\n</DataArray>\n";
+                ErrorContext{.file = path.string()});
+  const std::string attributes =
+      "Name=\"" + a.name + "\" NumberOfComponents=\"" + std::to_string(a.components) + '"';
+  switch (a.type) {
+    case VtkScalar::FLOAT64:
+      return write_converted<double>(out, encoder, attributes, a.values);
+    case VtkScalar::FLOAT32:
+      return write_converted<float>(out, encoder, attributes, a.values);
+    case VtkScalar::INT32:
+      return write_converted<std::int32_t>(out, encoder, attributes, a.values);
+    case VtkScalar::UINT8:
+      return write_converted<std::uint8_t>(out, encoder, attributes, a.values);
+  }
+}
+
+// Points as Float64 tuples, whatever the storage order of `vertices`.
+template <typename Matrix>
+void write_points(std::ostream& out, VtkArrayEncoder& encoder, const Matrix& vertices) {
+  const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> rows = vertices;
+  out << "<Points>\n";
+  encoder.write(out, "NumberOfComponents=\"3\"", std::span<const double>(rows.data(), rows.size()));
+  out << "</Points>\n";
+}
+
+// Connectivity (row-major vertex indices), offsets (end of each cell) and, when `type` > 0,
+// the VTK cell type of every cell.
+template <typename Matrix>
+void write_cells(std::ostream& out, VtkArrayEncoder& encoder, const Matrix& cells,
+                 std::uint8_t type) {
+  const Eigen::Matrix<std::int32_t, Eigen::Dynamic, Matrix::ColsAtCompileTime, Eigen::RowMajor>
+      connectivity = cells.template cast<std::int32_t>();
+  std::vector<std::int32_t> offsets(cells.rows());
+  for (std::size_t i = 0; i < offsets.size(); ++i)
+    offsets[i] = static_cast<std::int32_t>((i + 1) * cells.cols());
+  encoder.write(out, "Name=\"connectivity\"",
+                std::span<const std::int32_t>(connectivity.data(), connectivity.size()));
+  encoder.write(out, "Name=\"offsets\"", std::span<const std::int32_t>(offsets));
+  if (type == 0) return;
+  const std::vector<std::uint8_t> types(cells.rows(), type);
+  encoder.write(out, "Name=\"types\"", std::span<const std::uint8_t>(types));
+}
+
+void write_arrays(std::ostream& out, VtkArrayEncoder& encoder, const char* element,
+                  const std::vector<DataArray>& arrays, std::size_t tuples,
+                  const std::filesystem::path& path) {
+  out << '<' << element << ">\n";
+  for (const auto& a : arrays) write_array(out, encoder, a, tuples, path);
+  out << "</" << element << ">\n";
+}
+
+// The XML goes to a buffer first: binary arrays are compressed while their elements are written,
+// and their bytes follow the XML.
+void write_document(const std::filesystem::path& path, const char* type, VtkEncoding encoding,
+                    const std::function<void(std::ostream&, VtkArrayEncoder&)>& body) {
+  VtkArrayEncoder encoder(encoding);
+  std::ostringstream xml;
+  xml << std::setprecision(17);
+  body(xml, encoder);
+  write_file_atomically(
+      path,
+      [&](std::ostream& out) {
+        out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"" << type << "\" "
+            << encoder.file_attributes() << ">\n"
+            << xml.view();
+        encoder.write_appended(out);
+        out << "</VTKFile>\n";
+      },
+      true);
 }
 
 }  // namespace
 
-void write_vti(const std::filesystem::path& path, const ImageData& image) {
+void write_vti(const std::filesystem::path& path, const ImageData& image, VtkEncoding encoding) {
   const auto& c = image.cells;
   const std::size_t points = std::size_t(c[0] + 1) * (c[1] + 1) * (c[2] + 1);
   const std::size_t cells = std::size_t(c[0]) * c[1] * c[2];
-  write_file_atomically(path, [&](std::ostream& out) {
-    out << std::setprecision(12)
-        << "<?xml version=\"1.0\"?>\n<VTKFile type=\"ImageData\" version=\"0.1\" "
-           "byte_order=\"LittleEndian\">\n<ImageData WholeExtent=\"0 "
-        << c[0] << " 0 " << c[1] << " 0 " << c[2] << "\" Origin=\"" << image.origin[0] << ' '
+  write_document(path, "ImageData", encoding, [&](std::ostream& out, VtkArrayEncoder& encoder) {
+    const std::string extent =
+        "0 " + std::to_string(c[0]) + " 0 " + std::to_string(c[1]) + " 0 " + std::to_string(c[2]);
+    out << "<ImageData WholeExtent=\"" << extent << "\" Origin=\"" << image.origin[0] << ' '
         << image.origin[1] << ' ' << image.origin[2] << "\" Spacing=\"" << image.spacing << ' '
-        << image.spacing << ' ' << image.spacing << "\">\n<Piece Extent=\"0 " << c[0] << " 0 "
-        << c[1] << " 0 " << c[2] << "\">\n<PointData>\n";
-    for (const auto& a : image.point_data) write_array(out, a, points, path.string());
-    out << "</PointData>\n<CellData>\n";
-    for (const auto& a : image.cell_data) write_array(out, a, cells, path.string());
-    out << "</CellData>\n</Piece>\n</ImageData>\n</VTKFile>\n";
+        << image.spacing << ' ' << image.spacing << "\">\n<Piece Extent=\"" << extent << "\">\n";
+    write_arrays(out, encoder, "PointData", image.point_data, points, path);
+    write_arrays(out, encoder, "CellData", image.cell_data, cells, path);
+    out << "</Piece>\n</ImageData>\n";
   });
 }
 
 void write_vtp(const std::filesystem::path& path,
                const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>& vertices,
                const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& triangles,
-               const std::vector<DataArray>& point_data) {
-  write_file_atomically(path, [&](std::ostream& out) {
-    out << std::setprecision(12)
-        << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"0.1\" "
-           "byte_order=\"LittleEndian\">\n<PolyData>\n<Piece NumberOfPoints=\""
-        << vertices.rows() << "\" NumberOfPolys=\"" << triangles.rows() << "\">\n<PointData>\n";
-    for (const auto& a : point_data) write_array(out, a, vertices.rows(), path.string());
-    out << "</PointData>\n<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" "
-           "format=\"ascii\">\n";
-    for (Eigen::Index i = 0; i < vertices.rows(); ++i)
-      out << vertices(i, 0) << ' ' << vertices(i, 1) << ' ' << vertices(i, 2) << '\n';
-    out << "</DataArray>\n</Points>\n<Polys>\n<DataArray type=\"Int64\" Name=\"connectivity\" "
-           "format=\"ascii\">\n";
-    for (Eigen::Index i = 0; i < triangles.rows(); ++i)
-      out << triangles(i, 0) << ' ' << triangles(i, 1) << ' ' << triangles(i, 2) << '\n';
-    out << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-    for (Eigen::Index i = 0; i < triangles.rows(); ++i) out << 3 * (i + 1) << '\n';
-    out << "</DataArray>\n</Polys>\n</Piece>\n</PolyData>\n</VTKFile>\n";
+               const std::vector<DataArray>& point_data, VtkEncoding encoding) {
+  write_document(path, "PolyData", encoding, [&](std::ostream& out, VtkArrayEncoder& encoder) {
+    out << "<PolyData>\n<Piece NumberOfPoints=\"" << vertices.rows() << "\" NumberOfPolys=\""
+        << triangles.rows() << "\">\n";
+    write_arrays(out, encoder, "PointData", point_data, vertices.rows(), path);
+    write_points(out, encoder, vertices);
+    out << "<Polys>\n";
+    write_cells(out, encoder, triangles, 0);
+    out << "</Polys>\n</Piece>\n</PolyData>\n";
   });
+}
+
+void write_vtu(const std::filesystem::path& path, const Eigen::MatrixX3d& vertices,
+               const Eigen::MatrixX4i& tets, const std::vector<DataArray>& point_data,
+               const std::vector<DataArray>& cell_data, VtkEncoding encoding) {
+  constexpr std::uint8_t kVtkTetra = 10;
+  write_document(path, "UnstructuredGrid", encoding,
+                 [&](std::ostream& out, VtkArrayEncoder& encoder) {
+                   out << "<UnstructuredGrid>\n<Piece NumberOfPoints=\"" << vertices.rows()
+                       << "\" NumberOfCells=\"" << tets.rows() << "\">\n";
+                   write_points(out, encoder, vertices);
+                   out << "<Cells>\n";
+                   write_cells(out, encoder, tets, kVtkTetra);
+                   out << "</Cells>\n";
+                   write_arrays(out, encoder, "PointData", point_data, vertices.rows(), path);
+                   write_arrays(out, encoder, "CellData", cell_data, tets.rows(), path);
+                   out << "</Piece>\n</UnstructuredGrid>\n";
+                 });
 }
 
 void write_pvd(const std::filesystem::path& path, const std::vector<SeriesEntry>& entries) {

@@ -1,18 +1,26 @@
 #pragma once
 // VTK XML writers that ParaView opens: ImageData (.vti) for lattice fields, PolyData (.vtp) for
-// surfaces, and the .pvd collection tying frames together. ASCII data, written atomically.
+// surfaces, UnstructuredGrid (.vtu) for tetrahedral meshes, and the .pvd collection tying frames
+// together. Data arrays are binary, zlib-compressed appended data by default, ASCII on request
+// (vtk_array_encoder.hpp); files are written atomically (atomic_file.hpp).
 #include <Eigen/Core>
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "mgelastic/io/vtk_array_encoder.hpp"
+
 namespace mgelastic::io {
+
+// The type an array is stored as in the file; values are converted from double when written.
+enum class VtkScalar { FLOAT64, FLOAT32, INT32, UINT8 };
 
 // A named array: `components` values per point (or cell), tuples stored contiguously.
 struct DataArray {
   std::string name;
   int components = 1;
   std::vector<double> values;
+  VtkScalar type = VtkScalar::FLOAT64;
 };
 
 // Uniform grid of `cells` cells (x fastest), spacing h, origin at the min corner.
@@ -23,13 +31,23 @@ struct ImageData {
   std::vector<DataArray> point_data, cell_data;
 };
 
-void write_vti(const std::filesystem::path& path, const ImageData& image);
+// Each writer throws mgelastic::Error naming the file and array when an array's size does not
+// match its points/cells, or on I/O failure; the previous file at `path` then stays untouched.
+void write_vti(const std::filesystem::path& path, const ImageData& image,
+               VtkEncoding encoding = VtkEncoding::BINARY);
 
 // Triangle surface with optional point arrays.
 void write_vtp(const std::filesystem::path& path,
                const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>& vertices,
                const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& triangles,
-               const std::vector<DataArray>& point_data = {});
+               const std::vector<DataArray>& point_data = {},
+               VtkEncoding encoding = VtkEncoding::BINARY);
+
+// Tetrahedral mesh (`vertices` N x 3, `tets` M x 4 zero-based) with point and cell arrays.
+void write_vtu(const std::filesystem::path& path, const Eigen::MatrixX3d& vertices,
+               const Eigen::MatrixX4i& tets, const std::vector<DataArray>& point_data = {},
+               const std::vector<DataArray>& cell_data = {},
+               VtkEncoding encoding = VtkEncoding::BINARY);
 
 struct SeriesEntry {
   double time = 0;

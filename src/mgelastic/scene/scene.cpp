@@ -107,6 +107,7 @@ Scene parse_scene(const nlohmann::json& document, const std::string& file,
   s.output_dir = d["output"]["dir"];
   s.checkpoint_every = d["output"]["checkpoint_every"];
   for (const auto& f : d["output"]["formats"]) s.formats.push_back(f);
+  s.vtk_encoding = d["output"]["vtk_encoding"];
   return s;
 }
 

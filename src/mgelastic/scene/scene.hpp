@@ -75,6 +75,7 @@ struct Scene {
   bool accelerate = true;
   std::string output_dir = "out";
   std::vector<std::string> formats;
+  std::string vtk_encoding = "binary";  // or "ascii"
   int checkpoint_every = 10;  // frames; 0 = only at the end, on interruption and on divergence
 };
 

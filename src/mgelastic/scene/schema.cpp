@@ -242,6 +242,10 @@ Field build_schema() {
                            f.default_value = nlohmann::json::array({"vtk", "obj"});
                            return f;
                          }(),
+                         choice("vtk_encoding",
+                                "Data arrays of the VTK files: binary (zlib-compressed, appended) "
+                                "or ascii (text, larger and slower)",
+                                "binary", {"binary", "ascii"}),
                          integer("checkpoint_every",
                                  "Write a checkpoint (checkpoint.mgck, for `run --resume`) every "
                                  "this many frames, after the last frame and when a run is "
