@@ -8,11 +8,13 @@
 #include <vector>
 
 #include "mgelastic/core/error.hpp"
+#include "mgelastic/core/stream_triad.hpp"
 #include "mgelastic/core/threads.hpp"
 #include "mgelastic/geometry/surface_mesh_readers.hpp"
 #include "mgelastic/grid/box_problem.hpp"
 #include "mgelastic/grid/cg_baseline.hpp"
 #include "mgelastic/grid/convergence_rate.hpp"
+#include "mgelastic/grid/cycle_roofline.hpp"
 #include "mgelastic/grid/disc_study.hpp"
 #include "mgelastic/grid/hypre_baseline.hpp"
 #include "mgelastic/grid/multigrid.hpp"
@@ -52,15 +54,33 @@ grid::MultigridOptions multigrid_options(const BoxBenchOptions& o) {
   return options;
 }
 
-// The rows of the paper's Fig. 22, for the --json records.
+// The rows of the paper's Fig. 22 (and the cycle's own work), for the --json records.
 nlohmann::json phase_seconds_json(const grid::PhaseSeconds& phases) {
-  return {{"boundary_smoothing", phases.boundary_smoothing},
-          {"interior_smoothing", phases.interior_smoothing},
-          {"residual", phases.residual},
-          {"restriction", phases.restriction},
-          {"prolongation", phases.prolongation},
-          {"coarse_solve", phases.coarse_solve},
-          {"other", phases.other}};
+  nlohmann::json json;
+  for (int phase = 0; phase < grid::PhaseSeconds::count; ++phase)
+    json[grid::PhaseSeconds::names[phase]] = phases[phase];
+  return json;
+}
+
+nlohmann::json roofline_row_json(const grid::PhaseRoofline& row) {
+  return {{"seconds", row.seconds},
+          {"bytes", row.bytes},
+          {"gb_per_s", row.gb_per_s},
+          {"triad_fraction", row.triad_fraction}};
+}
+
+// Per cycle: each phase's seconds, model bytes, achieved GB/s and fraction of the triad.
+template <int Dim, typename Scalar>
+void add_roofline(nlohmann::json& record, const grid::Multigrid<Dim, Scalar>& mg,
+                  const grid::SolveReport& report, double triad_gb_per_s) {
+  if (triad_gb_per_s <= 0) return;
+  const grid::CycleRoofline table = grid::cycle_roofline(mg, report, triad_gb_per_s);
+  nlohmann::json phases;
+  for (const auto& row : table.phases) phases[row.name] = roofline_row_json(row);
+  record["triad_gb_per_s"] = table.triad_gb_per_s;
+  record["roofline"] = {{"phases", phases},
+                        {"cycle", roofline_row_json(table.total)},
+                        {"unattributed_seconds", table.unattributed_seconds}};
 }
 
 template <int Dim, typename Scalar>
@@ -71,24 +91,27 @@ nlohmann::json convergence(const BoxBenchOptions& o) {
   // Residuals are evaluated in double in both precisions (float runs mixed precision).
   const double floor = 1e-11;
   const auto& phases = mg.phase_seconds();
-  return {{"benchmark", "convergence"},
-          {"dim", Dim},
-          {"n", o.n},
-          {"poisson", o.poisson},
-          {"bc", o.bc},
-          {"precision", o.precision},
-          {"cycle", o.cycle},
-          {"boundary_sweeps", mg.boundary_sweeps()},
-          {"levels", mg.levels()},
-          {"unknowns", mg.unknowns()},
-          {"residuals", report.residuals},
-          {"relative_residual", report.residuals.back() / report.residuals.front()},
-          {"rate", grid::convergence_rate(report.residuals, floor)},
-          {"solve_seconds", report.seconds},
-          {"vcycle_seconds", report.seconds / std::max(1, report.cycles())},
-          {"working_set_bytes", mg.bytes()},
-          {"threads", thread_count()},
-          {"phase_seconds", phase_seconds_json(phases)}};
+  nlohmann::json record = {
+      {"benchmark", "convergence"},
+      {"dim", Dim},
+      {"n", o.n},
+      {"poisson", o.poisson},
+      {"bc", o.bc},
+      {"precision", o.precision},
+      {"cycle", o.cycle},
+      {"boundary_sweeps", mg.boundary_sweeps()},
+      {"levels", mg.levels()},
+      {"unknowns", mg.unknowns()},
+      {"residuals", report.residuals},
+      {"relative_residual", report.residuals.back() / report.residuals.front()},
+      {"rate", grid::convergence_rate(report.residuals, floor)},
+      {"solve_seconds", report.seconds},
+      {"vcycle_seconds", report.seconds / std::max(1, report.cycles())},
+      {"working_set_bytes", mg.bytes()},
+      {"threads", thread_count()},
+      {"phase_seconds", phase_seconds_json(phases)}};
+  add_roofline(record, mg, report, o.triad_gb_per_s);
+  return record;
 }
 
 // CPU time of the whole process (all threads), seconds.
@@ -287,57 +310,57 @@ nlohmann::json mesh_vcycle(const std::string& file, int resolution, const BoxBen
   grid::Multigrid<3, float> mg(setup.problem, options);
   const grid::SolveReport report = mg.run_cycles(o.cycles);
   const auto& phases = mg.phase_seconds();
-  return {{"benchmark", "convergence"},
-          {"mesh", file},
-          {"dim", 3},
-          {"n", resolution},
-          {"interior_cells", setup.interior_cells},
-          {"poisson", o.poisson},
-          {"precision", "float"},
-          {"cycle", o.cycle},
-          {"boundary_sweeps", mg.boundary_sweeps()},
-          {"levels", mg.levels()},
-          {"unknowns", mg.unknowns()},
-          {"residuals", report.residuals},
-          {"rate", grid::convergence_rate(report.residuals, 1e-11)},
-          {"vcycle_seconds", report.seconds / std::max(1, report.cycles())},
-          {"working_set_bytes", mg.bytes()},
-          {"threads", thread_count()},
-          {"phase_seconds", phase_seconds_json(phases)}};
+  nlohmann::json record = {{"benchmark", "convergence"},
+                           {"mesh", file},
+                           {"dim", 3},
+                           {"n", resolution},
+                           {"interior_cells", setup.interior_cells},
+                           {"poisson", o.poisson},
+                           {"precision", "float"},
+                           {"cycle", o.cycle},
+                           {"boundary_sweeps", mg.boundary_sweeps()},
+                           {"levels", mg.levels()},
+                           {"unknowns", mg.unknowns()},
+                           {"residuals", report.residuals},
+                           {"rate", grid::convergence_rate(report.residuals, 1e-11)},
+                           {"vcycle_seconds", report.seconds / std::max(1, report.cycles())},
+                           {"working_set_bytes", mg.bytes()},
+                           {"threads", thread_count()},
+                           {"phase_seconds", phase_seconds_json(phases)}};
+  add_roofline(record, mg, report, o.triad_gb_per_s);
+  return record;
 }
 
-// Fig. 22/23-style profile: seconds per subroutine and per V-cycle on the mixed box (and on
-// surface meshes, `meshes`, voxelized at `resolution`).
-void run_vcycle_profile(const std::vector<int>& sizes, const std::vector<int>& threads,
-                        const BoxBenchOptions& base, const std::vector<std::string>& meshes = {},
-                        int resolution = 0) {
-  static const char* phases[] = {
-      "boundary_smoothing", "interior_smoothing", "residual", "restriction",
-      "prolongation",       "coarse_solve",       "other"};
-  nlohmann::json records = nlohmann::json::array();
-  for (int n : sizes) {
-    for (int t : threads) {
-      BoxBenchOptions o = base;
-      o.n = n;
-      set_thread_count(t);
-      nlohmann::json r = run_convergence(o);
-      records.push_back(r);
-    }
+// One run's roofline: per V-cycle, seconds, model bytes, achieved GB/s, fraction of triad.
+void print_roofline(const nlohmann::json& r, const BoxBenchOptions& base) {
+  if (r.contains("mesh")) {
+    std::printf("mesh %s at %d, %d thread(s)", r["mesh"].get<std::string>().c_str(),
+                r["n"].get<int>(), r["threads"].get<int>());
+  } else {
+    std::printf("%d^3 mixed box, %d thread(s)", r["n"].get<int>(), r["threads"].get<int>());
   }
-  for (const std::string& file : meshes) {
-    for (int t : threads) {
-      set_thread_count(t);
-      records.push_back(mesh_vcycle(file, resolution, base));
-    }
-  }
-  set_thread_count(0);
-  if (base.json) {
-    std::cout << nlohmann::json{{"benchmark", "vcycle"}, {"runs", records}}.dump(2) << "\n";
-    return;
-  }
-  std::printf("V(1,1) profile, 3D mixed box, nu=%.3g, %s, %d cycles: seconds per V-cycle\n\n",
-              base.poisson, base.precision.c_str(), base.cycles);
-  std::printf("%-20s", "subroutine");
+  std::printf(", %s, %d cycles: triad %.2f GB/s\n", base.precision.c_str(),
+              static_cast<int>(r["residuals"].size()) - 1, r["triad_gb_per_s"].get<double>());
+  std::printf("%-20s %10s %10s %8s %8s\n", "phase", "s/cycle", "MB/cycle", "GB/s", "triad");
+  const auto row = [](const std::string& name, const nlohmann::json& p) {
+    std::printf("%-20s %10.4f %10.1f %8.2f %7.0f%%\n", name.c_str(), p["seconds"].get<double>(),
+                p["bytes"].get<double>() / 1e6, p["gb_per_s"].get<double>(),
+                100 * p["triad_fraction"].get<double>());
+  };
+  for (const char* phase : grid::PhaseSeconds::names) row(phase, r["roofline"]["phases"][phase]);
+  const double unattributed = r["roofline"]["unattributed_seconds"].get<double>();
+  const double cycle = r["roofline"]["cycle"]["seconds"].get<double>();
+  std::printf("%-20s %10.4f %10s %8s %8s  (%.1f%% of the cycle)\n", "unattributed", unattributed,
+              "", "", "", cycle > 0 ? 100 * unattributed / cycle : 0.0);
+  row("total per V-cycle", r["roofline"]["cycle"]);
+  std::printf("\n");
+}
+
+// Rate, working set and levels of every run side by side.
+void print_profile_summary(const nlohmann::json& records, const BoxBenchOptions& base) {
+  std::printf("V(1,1) profile, 3D mixed box, nu=%.3g, %s, %d cycles\n", base.poisson,
+              base.precision.c_str(), base.cycles);
+  std::printf("%-20s", "run");
   for (const auto& r : records) {
     if (r.contains("mesh")) {
       std::printf(" | mesh %3d %dT", r["n"].get<int>(), r["threads"].get<int>());
@@ -345,15 +368,7 @@ void run_vcycle_profile(const std::vector<int>& sizes, const std::vector<int>& t
       std::printf(" | %4d^3 %dT", r["n"].get<int>(), r["threads"].get<int>());
     }
   }
-  std::printf("\n");
-  for (const char* phase : phases) {
-    std::printf("%-20s", phase);
-    for (const auto& r : records)
-      std::printf(" | %9.4f",
-                  r["phase_seconds"][phase].get<double>() / (r["residuals"].size() - 1.0));
-    std::printf("\n");
-  }
-  std::printf("%-20s", "total per V-cycle");
+  std::printf("\n%-20s", "total per V-cycle");
   for (const auto& r : records) std::printf(" | %9.4f", r["vcycle_seconds"].get<double>());
   std::printf("\n%-20s", "rate");
   for (const auto& r : records) std::printf(" | %9.3f", r["rate"].get<double>());
@@ -361,21 +376,41 @@ void run_vcycle_profile(const std::vector<int>& sizes, const std::vector<int>& t
   for (const auto& r : records) std::printf(" | %9.1f", r["working_set_bytes"].get<double>() / 1e6);
   std::printf("\n%-20s", "levels");
   for (const auto& r : records) std::printf(" | %9d", r["levels"].get<int>());
-  // Bytes per interior unknown of the working set, and the rate at which a cycle would have to
-  // stream it once per sweep-equivalent (a lower bound of the traffic: working set / time).
   std::printf("\n%-20s", "bytes per unknown");
   for (const auto& r : records)
     std::printf(" | %9.0f", r["working_set_bytes"].get<double>() / r["unknowns"].get<double>());
-  std::printf("\n%-20s", "working set GB/s");
-  for (const auto& r : records)
-    std::printf(" | %9.2f",
-                r["working_set_bytes"].get<double>() / 1e9 / r["vcycle_seconds"].get<double>());
   std::printf("\n");
   for (const auto& r : records)
     if (r.contains("mesh"))
       std::printf("mesh %s: %zu interior cells at resolution %d\n",
                   r["mesh"].get<std::string>().c_str(), r["interior_cells"].get<std::size_t>(),
                   r["n"].get<int>());
+}
+
+// Fig. 22/23-style profile: seconds per subroutine and per V-cycle on the mixed box (and on
+// surface meshes, `meshes`, voxelized at `resolution`).
+void run_vcycle_profile(const std::vector<int>& sizes, const std::vector<int>& threads,
+                        const BoxBenchOptions& base, const std::vector<std::string>& meshes = {},
+                        int resolution = 0) {
+  nlohmann::json records = nlohmann::json::array();
+  for (int t : threads) {
+    set_thread_count(t);
+    // The roofline's ceiling, measured with this thread count in this run.
+    BoxBenchOptions o = base;
+    o.triad_gb_per_s = stream_triad_gb_per_s();
+    for (int n : sizes) {
+      o.n = n;
+      records.push_back(run_convergence(o));
+    }
+    for (const std::string& file : meshes) records.push_back(mesh_vcycle(file, resolution, o));
+  }
+  set_thread_count(0);
+  if (base.json) {
+    std::cout << nlohmann::json{{"benchmark", "vcycle"}, {"runs", records}}.dump(2) << "\n";
+    return;
+  }
+  for (const auto& r : records) print_roofline(r, base);
+  print_profile_summary(records, base);
 }
 
 // Georgii & Westermann Table 1/2 (tet/step_benchmark.hpp); milliseconds per step.

@@ -20,6 +20,8 @@ struct BoxBenchOptions {
   int threads = 0;
   // bench cg: leave out the unpreconditioned CG (minutes at 128^3), keep hypre and multigrid.
   bool skip_cg = false;
+  // bench vcycle: STREAM triad of this run (GB/s); > 0 adds the roofline to the record.
+  double triad_gb_per_s = 0;
 };
 
 void register_bench_commands(CLI::App& app);

@@ -19,12 +19,13 @@ python3 - "$dir" "$reps" <<'PY'
 import json, sys
 folder, reps = sys.argv[1], int(sys.argv[2])
 phases = ["boundary_smoothing", "interior_smoothing", "residual", "restriction",
-          "prolongation", "coarse_solve", "other"]
+          "prolongation", "coarse_solve", "refinement", "cycle_residual", "solve_setup",
+          "other"]  # "other": binaries before the roofline split it
 table = {}
 for which in ["old", "new"]:
     runs = [json.load(open(f"{folder}/{which}_{i}.json"))["runs"][0] for i in range(1, reps + 1)]
     cycles = len(runs[0]["residuals"]) - 1
-    row = {p: min(r["phase_seconds"][p] for r in runs) / cycles for p in phases}
+    row = {p: min(r["phase_seconds"].get(p, 0.0) for r in runs) / cycles for p in phases}
     row["total per V-cycle"] = min(r["vcycle_seconds"] for r in runs)
     row["rate"] = runs[0]["rate"]
     row["working set (MB)"] = runs[0]["working_set_bytes"] / 1e6

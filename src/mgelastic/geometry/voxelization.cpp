@@ -112,7 +112,7 @@ int bridge_diagonal_contacts(VoxelGrid& grid) {
 }
 
 std::vector<std::uint8_t> overlapping_cells(const VoxelGrid& grid, const Shape& region) {
-  std::vector<std::uint8_t> mask(static_cast<std::size_t>(grid.dims.prod()), 0);
+  std::vector<std::uint8_t> mask(grid.cell_count(), 0);
   const auto& n = grid.dims;
 #pragma omp parallel for schedule(dynamic, 1)
   for (int k = 0; k < n[2]; ++k)
@@ -123,24 +123,33 @@ std::vector<std::uint8_t> overlapping_cells(const VoxelGrid& grid, const Shape& 
   return mask;
 }
 
-VoxelGrid voxelize(const Shape& body, const VoxelizeOptions& options) {
-  const BoundingBox box = body.bounding_box();
+VoxelLattice voxel_lattice(const BoundingBox& box, const VoxelizeOptions& options) {
   if (box.isEmpty())
     throw Error("the shape is empty (bounding box has no volume)", {.pointer = "geometry"});
   const Point extent = box.sizes();
-  VoxelGrid grid;
-  grid.cell_size =
+  VoxelLattice lattice;
+  lattice.cell_size =
       options.cell_size > 0 ? options.cell_size : extent.maxCoeff() / options.resolution;
-  if (!(grid.cell_size > 0 && std::isfinite(grid.cell_size)))
+  if (!(lattice.cell_size > 0 && std::isfinite(lattice.cell_size)))
     throw Error("cannot derive a positive cell size", {.pointer = "grid"});
   const int border = options.margin + options.padding;
   for (int a = 0; a < 3; ++a)
-    grid.dims[a] = static_cast<int>(std::ceil(extent[a] / grid.cell_size - 1e-9)) + 2 * border;
-  if (static_cast<double>(grid.dims.prod()) > 2.0e9)
-    throw Error("the lattice would have " + std::to_string(static_cast<double>(grid.dims.prod())) +
+    lattice.cells[a] = std::ceil(extent[a] / lattice.cell_size - 1e-9) + 2.0 * border;
+  lattice.origin = box.min() - Point::Constant(border * lattice.cell_size);
+  return lattice;
+}
+
+VoxelGrid voxelize(const Shape& body, const VoxelizeOptions& options) {
+  const VoxelLattice lattice = voxel_lattice(body.bounding_box(), options);
+  // Flat indices are std::size_t, per-axis coordinates int: both hold below this limit.
+  if (!(lattice.cells.prod() <= 2.0e9))
+    throw Error("the lattice would have " + std::to_string(lattice.cells.prod()) +
                     " cells; increase the cell size",
                 {.pointer = "grid"});
-  grid.origin = box.min() - Point::Constant(border * grid.cell_size);
+  VoxelGrid grid;
+  grid.cell_size = lattice.cell_size;
+  grid.dims = lattice.cells.cast<int>();
+  grid.origin = lattice.origin;
   grid.occupied = overlapping_cells(grid, body);
   grid.bridged_cells = bridge_diagonal_contacts(grid);
   grid.thickened_cells = thicken_thin_features(grid);

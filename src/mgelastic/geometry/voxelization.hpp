@@ -24,8 +24,15 @@ struct VoxelGrid {
   int bridged_cells = 0;               // cells added by bridge_diagonal_contacts
   int thickened_cells = 0;             // cells added by thicken_thin_features
   int connected_cells = 0;             // cells added by connect_thick_blocks
+  std::size_t cell_count() const {
+    return static_cast<std::size_t>(dims[0]) * static_cast<std::size_t>(dims[1]) *
+           static_cast<std::size_t>(dims[2]);
+  }
   std::size_t index(int i, int j, int k) const {
-    return (static_cast<std::size_t>(k) * dims[1] + j) * dims[0] + i;
+    return (static_cast<std::size_t>(k) * static_cast<std::size_t>(dims[1]) +
+            static_cast<std::size_t>(j)) *
+               static_cast<std::size_t>(dims[0]) +
+           static_cast<std::size_t>(i);
   }
   Point cell_center(int i, int j, int k) const {
     return origin + cell_size * (Eigen::Vector3d(i, j, k).array() + 0.5).matrix();
@@ -43,6 +50,15 @@ struct VoxelizeOptions {
   // sheet one coarse cell thick whose coarse correction is far off (docs/embedded-geometry.md).
   int min_thickness = 3;
 };
+
+// The lattice voxelize() lays over `box`: cell size, origin and cells per axis (margin and
+// padding included), in double because the counts are checked against limits before any cast.
+struct VoxelLattice {
+  double cell_size = 0;
+  Point origin = Point::Zero();
+  Eigen::Vector3d cells = Eigen::Vector3d::Zero();
+};
+VoxelLattice voxel_lattice(const BoundingBox& box, const VoxelizeOptions& options);
 
 VoxelGrid voxelize(const Shape& body, const VoxelizeOptions& options);
 

@@ -12,6 +12,12 @@ namespace mgelastic::grid {
 class CoarseCholesky : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> {
  public:
   double reciprocal_condition() { return cholmod_rcond(m_cholmodFactor, &cholmod()); }
+  std::size_t factor_bytes() const {
+    const cholmod_factor* f = m_cholmodFactor;
+    if (!f) return 0;
+    if (f->is_super) return f->xsize * sizeof(double) + f->ssize * sizeof(int);
+    return f->nzmax * (sizeof(double) + sizeof(int));
+  }
 };
 
 template <int Dim, typename Scalar>
@@ -54,6 +60,11 @@ void CoarseSolver<Dim, Scalar>::solve(Level<Dim, Scalar>& level) const {
   const Eigen::VectorXd u = m_impl->cholesky.solve(rhs);
   m_impl->system.scatter(u, level);
   back_substitute_traction(level);
+}
+
+template <int Dim, typename Scalar>
+std::size_t CoarseSolver<Dim, Scalar>::factor_bytes() const {
+  return m_impl->cholesky.factor_bytes();
 }
 
 template class CoarseSolver<2, float>;

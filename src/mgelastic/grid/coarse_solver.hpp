@@ -25,6 +25,8 @@ class CoarseSolver {
 
   // Solves with the level's current right-hand side and overwrites level.x.
   void solve(Level<Dim, Scalar>& level) const;
+  // Memory of the Cholesky factor's values and row indices.
+  std::size_t factor_bytes() const;
 
  private:
   struct Impl;

@@ -270,23 +270,29 @@ double Multigrid<Dim, Scalar>::vcycle() {
     cycle_correction();
     Timer timer;
     const double norm = compute_residual(m_levels.front());
-    m_phases.other += timer.seconds();
+    m_phases.cycle_residual += timer.seconds();
     return norm;
   }
   // Mixed precision: the float hierarchy solves L e = r for the double residual r, which the
   // previous cycle (or residual()) left in m_solution->r unless the solution changed since.
   Timer timer;
   Level<Dim, Scalar>& fine = m_levels.front();
-  if (!m_solution_residual_current) compute_residual(*m_solution);
+  if (!m_solution_residual_current) {
+    compute_residual(*m_solution);
+    m_phases.cycle_residual += timer.seconds();
+    timer.restart();
+  }
   load_correction_problem(*m_solution, fine);
-  m_phases.other += timer.seconds();
+  m_phases.refinement += timer.seconds();
   cycle_correction();
   timer.restart();
   add_correction(fine, *m_solution);
   back_substitute_traction(*m_solution);
+  m_phases.refinement += timer.seconds();
+  timer.restart();
   const double norm = compute_residual(*m_solution);
   m_solution_residual_current = true;
-  m_phases.other += timer.seconds();
+  m_phases.cycle_residual += timer.seconds();
   return norm;
 }
 
@@ -343,6 +349,7 @@ SolveReport Multigrid<Dim, Scalar>::solve(double relative_tolerance, int max_cyc
     throw Error("the initial residual is not finite (NaN or Inf in the loads or boundary values)",
                 {.pointer = "loads"});
   const SolutionState start = solution_state();  // for the replay of a diverging solve
+  m_phases.solve_setup += timer.seconds();
   const double target = relative_tolerance * report.residuals.front();
   while (report.cycles() < max_cycles && report.residuals.back() > target) {
     report.residuals.push_back(vcycle());

@@ -52,13 +52,33 @@ struct MultigridOptions {
 
 int default_boundary_sweeps(double poisson_ratio);
 
-// Seconds spent per phase, accumulated over cycles (the rows of the paper's Fig. 22).
+// Seconds spent per phase, accumulated over cycles (the rows of the paper's Fig. 22, and the
+// cycle's own work around them, so that the phases add up to the solve time). The byte model
+// of the same phases (cycle_roofline.hpp) uses this struct too.
 struct PhaseSeconds {
   double boundary_smoothing = 0, interior_smoothing = 0, residual = 0, restriction = 0,
-         prolongation = 0, coarse_solve = 0, other = 0;
+         prolongation = 0, coarse_solve = 0;
+  // Mixed precision: the float correction problem loaded from the double residual, and the
+  // correction added back to the double solution with its traction back-substitution.
+  double refinement = 0;
+  // The finest residual each cycle returns (double level in mixed precision).
+  double cycle_residual = 0;
+  // Once per solve(): the initial residual and the copy of the start state for the replay.
+  double solve_setup = 0;
+  static constexpr int count = 9;
+  static constexpr const char* names[count] = {
+      "boundary_smoothing", "interior_smoothing", "residual",       "restriction", "prolongation",
+      "coarse_solve",       "refinement",         "cycle_residual", "solve_setup"};
+  double operator[](int phase) const {
+    const double values[count] = {boundary_smoothing, interior_smoothing, residual,
+                                  restriction,        prolongation,       coarse_solve,
+                                  refinement,         cycle_residual,     solve_setup};
+    return values[phase];
+  }
   double total() const {
-    return boundary_smoothing + interior_smoothing + residual + restriction + prolongation +
-           coarse_solve + other;
+    double sum = 0;
+    for (int phase = 0; phase < count; ++phase) sum += (*this)[phase];
+    return sum;
   }
 };
 
@@ -108,6 +128,9 @@ class Multigrid {
   double solution(int field, std::ptrdiff_t k) const;
   std::size_t unknowns() const { return m_levels.front().interior_unknowns(); }
   int boundary_sweeps() const { return m_boundary_sweeps; }
+  const MultigridOptions& options() const { return m_options; }
+  // Bytes of the coarsest level's factor (a coarse solve streams it twice).
+  std::size_t coarse_factor_bytes() const { return m_coarse->factor_bytes(); }
   // Memory of all levels' arrays (the working set of a cycle, without the coarse factor).
   std::size_t bytes() const;
   const PhaseSeconds& phase_seconds() const { return m_phases; }
@@ -116,9 +139,7 @@ class Multigrid {
   // (backward_euler.hpp) write b and the initial guess here between solves; do not keep the
   // reference across a cycle (each call marks the cached residual stale).
   Level<Dim, double>& solution_level();
-  const Level<Dim, double>& solution_level() const {
-    return const_cast<Multigrid*>(this)->solution_level();
-  }
+  const Level<Dim, double>& solution_level() const;  // reading does not mark it stale
 
  private:
   void build_levels(const ElasticityProblem<Dim>& problem,

@@ -24,6 +24,15 @@ Level<Dim, double>& Multigrid<Dim, Scalar>::solution_level() {
   }
 }
 
+template <int Dim, typename Scalar>
+const Level<Dim, double>& Multigrid<Dim, Scalar>::solution_level() const {
+  if constexpr (std::is_same_v<Scalar, double>) {
+    return m_solution ? *m_solution : m_levels.front();
+  } else {
+    return *m_solution;
+  }
+}
+
 namespace {
 
 template <int Dim, typename T>
@@ -154,8 +163,9 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
   return report;
 }
 
-#define MGELASTIC_INSTANTIATE(D, S)                             \
-  template Level<D, double>& Multigrid<D, S>::solution_level(); \
+#define MGELASTIC_INSTANTIATE(D, S)                                         \
+  template Level<D, double>& Multigrid<D, S>::solution_level();             \
+  template const Level<D, double>& Multigrid<D, S>::solution_level() const; \
   template SolveReport Multigrid<D, S>::solve_accelerated(double, int, int);
 MGELASTIC_INSTANTIATE(2, float)
 MGELASTIC_INSTANTIATE(2, double)

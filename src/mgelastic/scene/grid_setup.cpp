@@ -3,8 +3,10 @@
 #include <limits>
 
 #include "mgelastic/core/error.hpp"
+#include "mgelastic/core/system_memory.hpp"
 #include "mgelastic/grid/embedded_traction.hpp"
 #include "mgelastic/scene/build_shape.hpp"
+#include "mgelastic/scene/grid_memory.hpp"
 #include "mgelastic/scene/render_surface.hpp"
 
 namespace mgelastic::scene {
@@ -66,9 +68,14 @@ GridSetup build_grid_setup(const Scene& scene) {
                 ErrorContext{.file = scene.file, .pointer = "/material/regions"});
   GridSetup setup;
   setup.body = build_shape(scene.geometry, scene.directory, scene.file, "/geometry");
-  setup.voxels = geometry::voxelize(
-      *setup.body,
-      {.cell_size = scene.cell_size, .resolution = scene.resolution, .padding = scene.padding});
+  const geometry::VoxelizeOptions voxelize_options{
+      .cell_size = scene.cell_size, .resolution = scene.resolution, .padding = scene.padding};
+  // Refused before anything of the lattice's size is allocated.
+  const SystemMemory memory = available_memory();
+  check_grid_size(scene,
+                  geometry::voxel_lattice(setup.body->bounding_box(), voxelize_options).cells,
+                  memory.bytes, memory.source);
+  setup.voxels = geometry::voxelize(*setup.body, voxelize_options);
   const auto& v = setup.voxels;
   auto& p = setup.problem;
   p.lattice = grid::Lattice<3>(v.dims, v.cell_size, v.origin);

@@ -73,7 +73,11 @@ Field build_schema() {
   Field grid = object(
       "grid", "Embedding lattice of the grid engine (Sec. 5.1)",
       {number("cell_size", "Cell edge length; 0 = derive from `resolution`", "m", 0.0, 0.0),
-       integer("resolution", "Cells along the longest axis of the body's bounding box", 64, 4),
+       integer("resolution",
+               "Cells along the longest axis of the body's bounding box. A scene whose lattice "
+               "would exceed the solver's 32-bit indices (~1e9 cells) or the memory available "
+               "(estimated at ~470 bytes per lattice cell) is refused before it allocates",
+               64, 4),
        integer("padding", "Extra layers of cells around the body (Sec. 9.2)", 0, 0)});
   Field material_region = object(
       "", "A part of the body with its own material (tet engine)",

@@ -1,0 +1,18 @@
+#pragma once
+// The machine's memory as the OS reports it, for refusing problems that cannot fit before they
+// allocate (scene/grid_memory.hpp).
+#include <cstdint>
+#include <string>
+
+namespace mgelastic {
+
+struct SystemMemory {
+  std::uint64_t bytes = 0;  // 0 = unknown
+  std::string source;       // where the number came from, for messages
+};
+
+// Memory available for a new process: MemAvailable of /proc/meminfo, else the physical memory
+// (sysconf(_SC_PHYS_PAGES) * page size), else 0.
+SystemMemory available_memory();
+
+}  // namespace mgelastic

@@ -1,0 +1,213 @@
+#include "mgelastic/grid/cycle_roofline.hpp"
+
+#include <algorithm>
+#include <utility>
+#include <vector>
+
+namespace mgelastic::grid {
+namespace {
+
+constexpr double kIndex = 4, kField = 1;  // std::uint32_t index, std::uint8_t field / kind
+
+template <typename T>
+double bytes_of(const std::vector<T>& v) {
+  return static_cast<double>(v.size() * sizeof(T));
+}
+
+template <int Dim, typename Scalar>
+double real_cells(const Level<Dim, Scalar>& level) {
+  double cells = 1;
+  for (int a = 0; a < Dim; ++a) cells *= level.lattice.cells[a];
+  return cells;
+}
+
+// Stored rows streamed once: target (field + index), start, constant, b at the target, and the
+// entries' (field, index, value); `per_row` more scalars per row (written values).
+template <typename Scalar>
+double sparse_rows_bytes(const SparseRows<Scalar>& rows, double per_row_scalars) {
+  constexpr double S = sizeof(Scalar);
+  const double count = static_cast<double>(rows.rows());
+  const double entries = static_cast<double>(rows.column.size());
+  return count * (kField + 2 * kIndex + (2 + per_row_scalars) * S) +
+         entries * (kField + kIndex + S);
+}
+
+// Band momentum rows relaxed once each: compact row (pattern, target, field), rhs, own variable
+// read + write, eliminated pressures read + write.
+template <int Dim, typename Scalar>
+double band_row_relaxations(const Level<Dim, Scalar>& level, std::size_t count_rows,
+                            const std::vector<std::uint32_t>* subset) {
+  constexpr double S = sizeof(Scalar);
+  const BandKernel<Scalar>& kernel = level.band_kernel;
+  double pressures = 0;
+  auto add = [&](std::uint32_t m) {
+    if (m < kernel.pattern.size()) pressures += kernel.pressure_count[kernel.pattern[m]];
+  };
+  if (subset) {
+    for (std::uint32_t m : *subset) add(m);
+  } else {
+    for (std::uint32_t m = 0; m < kernel.pattern.size(); ++m) add(m);
+  }
+  return static_cast<double>(count_rows) * (2 * kIndex + kField + 3 * S) + pressures * 2 * S;
+}
+
+// A band_gauss_seidel call over `subset` (all band rows when null).
+template <int Dim, typename Scalar>
+double band_call_bytes(const Level<Dim, Scalar>& level, int sweeps,
+                       const std::vector<std::uint32_t>* subset) {
+  constexpr double S = sizeof(Scalar);
+  const std::size_t rows = subset ? subset->size() : level.band_u.rows();
+  // The exact pressure update: band_p rows with their inverse, p written.
+  const double pressures = sparse_rows_bytes(level.band_p, 1) + bytes_of(level.band_p_inverse);
+  const double refresh = static_cast<double>(rows) * (kField + kIndex + 3 * S);
+  return pressures + refresh + sweeps * band_row_relaxations(level, rows, subset);
+}
+
+template <int Dim, typename Scalar>
+double traction_bytes(const Level<Dim, Scalar>& level) {
+  constexpr double S = sizeof(Scalar);
+  const auto& t = level.traction;
+  double total = bytes_of(t.normal) + 4 * S * static_cast<double>(t.normal.size());
+  for (const auto& rule : t.thin)
+    total += sizeof(rule) + bytes_of(rule.neighbors) +
+             S * static_cast<double>(rule.neighbors.size() + 3);
+  for (const auto& rule : t.shear)
+    total += sizeof(rule) + bytes_of(rule.candidates) +
+             S * static_cast<double>(3 * rule.candidates.size() + 1);
+  return total;
+}
+
+// One smoothing (Sec. 5.2): band, distributive, band, traction back-substitution.
+template <int Dim, typename Scalar>
+double smoothing_band_bytes(const Level<Dim, Scalar>& level, int sweeps) {
+  return 2 * band_gauss_seidel_bytes(level, sweeps) + traction_bytes(level);
+}
+
+template <int Dim, typename Scalar>
+double norm_bytes(const Level<Dim, Scalar>& level) {
+  return static_cast<double>((Dim + 1) * level.size() * sizeof(Scalar));
+}
+
+}  // namespace
+
+template <int Dim, typename Scalar>
+double distributive_sweep_bytes(const Level<Dim, Scalar>& level) {
+  constexpr double S = sizeof(Scalar), F = Dim + 1;
+  const double momentum = (F + 1 + 2) * S + kField;      // read x, b_i; write u_i, p; relaxation
+  const double pressure = (F + 1 + F) * S + 2 * kField;  // read x, b_p; write x; relax., cells
+  return real_cells(level) * (Dim * momentum + pressure);
+}
+
+template <int Dim, typename Scalar>
+double band_gauss_seidel_bytes(const Level<Dim, Scalar>& level, int sweeps) {
+  return band_call_bytes(level, sweeps, nullptr);
+}
+
+template <int Dim, typename Scalar>
+double residual_bytes(const Level<Dim, Scalar>& level) {
+  constexpr double S = sizeof(Scalar), F = Dim + 1;
+  const double stencil = static_cast<double>(level.size()) * F * (3 * S + kField);
+  const double band = sparse_rows_bytes(level.band_u, 1) + sparse_rows_bytes(level.band_p, 3);
+  return stencil + band;
+}
+
+template <int Dim, typename Scalar>
+double restriction_bytes(const Level<Dim, Scalar>& fine, const Level<Dim, Scalar>& coarse) {
+  constexpr double S = sizeof(Scalar), F = Dim + 1;
+  return static_cast<double>(fine.size()) * F * S +
+         static_cast<double>(coarse.size()) * F * (2 * S + kField);
+}
+
+template <int Dim, typename Scalar>
+double prolongation_bytes(const Level<Dim, Scalar>& coarse, const Level<Dim, Scalar>& fine) {
+  constexpr double S = sizeof(Scalar), F = Dim + 1;
+  return static_cast<double>(coarse.size()) * F * (S + kField) +
+         static_cast<double>(fine.size()) * F * (2 * S + kField);
+}
+
+template <int Dim, typename Scalar>
+PhaseSeconds cycle_bytes(const Multigrid<Dim, Scalar>& mg) {
+  PhaseSeconds bytes;
+  const int coarsest = mg.levels() - 1;
+  const MultigridOptions& options = mg.options();
+  // Visits per level: a W-cycle visits the coarse problem twice below every level but the
+  // next-to-coarsest (Multigrid::correct).
+  std::vector<double> visits(mg.levels(), 1.0);
+  for (int l = 0; l < coarsest; ++l)
+    visits[l + 1] = visits[l] * (options.cycle == CycleType::W && l + 1 < coarsest ? 2.0 : 1.0);
+  for (int l = 0; l < coarsest; ++l) {
+    const Level<Dim, Scalar>& level = mg.level(l);
+    const Level<Dim, Scalar>& next = mg.level(l + 1);
+    const double v = visits[l];
+    bytes.boundary_smoothing +=
+        v * (2 * smoothing_band_bytes(level, mg.boundary_sweeps()) +
+             band_call_bytes(level, options.relocation_sweeps, &level.pre_restriction_rows) +
+             band_call_bytes(level, options.relocation_sweeps, &level.post_prolongation_rows));
+    bytes.interior_smoothing += v * 2 * distributive_sweep_bytes(level);
+    bytes.residual += v * residual_bytes(level);
+    bytes.restriction += v * restriction_bytes(level, next);
+    bytes.prolongation += v * prolongation_bytes(next, level);
+  }
+  constexpr double S = sizeof(Scalar), F = Dim + 1;
+  const Level<Dim, Scalar>& last = mg.level(coarsest);
+  bytes.coarse_solve = visits[coarsest] * (2.0 * static_cast<double>(mg.coarse_factor_bytes()) +
+                                           static_cast<double>(last.size()) * F * (2 * S + kField) +
+                                           traction_bytes(last));
+  const Level<Dim, double>& solution = mg.solution_level();
+  const double n = static_cast<double>(solution.size());
+  if (static_cast<const void*>(&solution) != static_cast<const void*>(&mg.finest())) {
+    bytes.refinement = n * F * (8 + 2 * S) + n * F * (kField + S + 16) + traction_bytes(solution);
+  }
+  const double residual_and_norm = residual_bytes(solution) + norm_bytes(solution);
+  bytes.cycle_residual = residual_and_norm;
+  bytes.solve_setup = residual_and_norm + 2 * 8 * F * n;
+  return bytes;
+}
+
+namespace {
+
+PhaseRoofline roofline_row(std::string name, double seconds, double bytes, double triad) {
+  const double gb_per_s = seconds > 0 ? bytes / seconds / 1e9 : 0.0;
+  return {std::move(name), seconds, bytes, gb_per_s, triad > 0 ? gb_per_s / triad : 0.0};
+}
+
+}  // namespace
+
+template <int Dim, typename Scalar>
+CycleRoofline cycle_roofline(const Multigrid<Dim, Scalar>& mg, const SolveReport& report,
+                             double triad_gb_per_s) {
+  const double cycles = std::max(1, report.cycles());
+  const PhaseSeconds& seconds = mg.phase_seconds();
+  PhaseSeconds bytes = cycle_bytes(mg);
+  bytes.solve_setup /= cycles;  // once per solve
+  CycleRoofline table;
+  table.triad_gb_per_s = triad_gb_per_s;
+  double phase_sum = 0, byte_sum = 0;
+  for (int phase = 0; phase < PhaseSeconds::count; ++phase) {
+    const double s = seconds[phase] / cycles;
+    table.phases.push_back(
+        roofline_row(PhaseSeconds::names[phase], s, bytes[phase], triad_gb_per_s));
+    phase_sum += s;
+    byte_sum += bytes[phase];
+  }
+  const double cycle_seconds = report.seconds / cycles;
+  table.total = roofline_row("cycle", cycle_seconds, byte_sum, triad_gb_per_s);
+  table.unattributed_seconds = cycle_seconds - phase_sum;
+  return table;
+}
+
+#define MGELASTIC_INSTANTIATE(D, S)                                                                \
+  template PhaseSeconds cycle_bytes<D, S>(const Multigrid<D, S>&);                                 \
+  template CycleRoofline cycle_roofline<D, S>(const Multigrid<D, S>&, const SolveReport&, double); \
+  template double distributive_sweep_bytes<D, S>(const Level<D, S>&);                              \
+  template double band_gauss_seidel_bytes<D, S>(const Level<D, S>&, int);                          \
+  template double residual_bytes<D, S>(const Level<D, S>&);                                        \
+  template double restriction_bytes<D, S>(const Level<D, S>&, const Level<D, S>&);                 \
+  template double prolongation_bytes<D, S>(const Level<D, S>&, const Level<D, S>&);
+MGELASTIC_INSTANTIATE(2, float)
+MGELASTIC_INSTANTIATE(2, double)
+MGELASTIC_INSTANTIATE(3, float)
+MGELASTIC_INSTANTIATE(3, double)
+#undef MGELASTIC_INSTANTIATE
+
+}  // namespace mgelastic::grid

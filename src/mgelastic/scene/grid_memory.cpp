@@ -1,0 +1,57 @@
+#include "mgelastic/scene/grid_memory.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+
+#include "mgelastic/core/error.hpp"
+
+namespace mgelastic::scene {
+namespace {
+
+constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+
+std::string gib(double bytes) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f GiB", bytes / kGiB);
+  return text;
+}
+
+std::string lattice_text(const Eigen::Vector3d& cells) {
+  char text[96];
+  std::snprintf(text, sizeof text, "%.0f x %.0f x %.0f = %.3g cells", cells[0], cells[1], cells[2],
+                cells.prod());
+  return text;
+}
+
+}  // namespace
+
+double estimated_grid_bytes(const Eigen::Vector3d& cells) {
+  const double padded = (cells.array() + 2.0).prod();  // the level lattice's ghost ring
+  return padded * (4 * kGridBytesPerUnknown * kGridPeakOverWorkingSet + kVoxelizationBytesPerCell);
+}
+
+void check_grid_size(const Scene& scene, const Eigen::Vector3d& cells,
+                     std::uint64_t available_bytes, const std::string& memory_source) {
+  const ErrorContext at{.file = scene.file,
+                        .pointer = scene.cell_size > 0 ? "/grid/cell_size" : "/grid/resolution"};
+  const std::string remedy =
+      scene.cell_size > 0 ? "; increase the cell size" : "; lower the resolution";
+  const double estimate = estimated_grid_bytes(cells);
+  if (available_bytes > 0 && estimate > static_cast<double>(available_bytes))
+    throw Error("the grid would need about " + gib(estimate) + " of memory (lattice " +
+                    lattice_text(cells) + "), more than the " +
+                    gib(static_cast<double>(available_bytes)) + " available on this machine (" +
+                    memory_source + ")" + remedy,
+                at);
+  // Level arrays index variables as field * size + k in 32 bits (level.hpp).
+  const double indices = 4.0 * (cells.array() + 2.0).prod();
+  if (!(indices < static_cast<double>(std::numeric_limits<std::uint32_t>::max())))
+    throw Error("the lattice of the body's bounding box would have " + lattice_text(cells) +
+                    ", beyond the solver's 32-bit variable indices (at most ~1.07e9 cells)" +
+                    remedy,
+                at);
+}
+
+}  // namespace mgelastic::scene
