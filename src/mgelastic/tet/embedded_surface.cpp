@@ -117,7 +117,8 @@ struct Binding {
   double distance = std::numeric_limits<double>::infinity();
 };
 
-// The tet of bin b that holds p most deeply (largest least barycentric); tet -1 when none does.
+// A tet of bin b that holds p: the first with p strictly inside, else the one holding it most
+// deeply (largest least barycentric, p on shared faces); tet -1 when none does.
 void best_inside(const geometry::TetMesh& mesh, const TetBins& bins, int b, const Vec3& p,
                  Binding& best) {
   for (int i = bins.start[b]; i < bins.start[b + 1]; ++i) {
@@ -125,6 +126,7 @@ void best_inside(const geometry::TetMesh& mesh, const TetBins& bins, int b, cons
     const Eigen::Vector4d w = barycentric(mesh.corners(t), p);
     if (w.minCoeff() >= -kInside && (best.tet < 0 || w.minCoeff() > best.weights.minCoeff()))
       best = {t, w, 0.0};
+    if (best.weights.minCoeff() > 0) return;  // strictly inside: no tet holds p more deeply
   }
 }
 
@@ -147,6 +149,12 @@ Binding nearest_tet(const geometry::TetMesh& mesh, const TetBins& bins, const Ve
           for (int n = bins.start[b]; n < bins.start[b + 1]; ++n) {
             const int t = bins.items[n];
             const Eigen::Matrix<double, 3, 4> corners = mesh.corners(t);
+            // The distance to the tet's box bounds the distance to the tet: most tets of a ring
+            // are skipped without their four faces.
+            const Vec3 below = corners.rowwise().minCoeff() - p,
+                       above = p - corners.rowwise().maxCoeff();
+            if (below.cwiseMax(above).cwiseMax(0.0).norm() > best.distance + 1e-12 * bins.size)
+              continue;
             const Eigen::Vector4d w = barycentric(corners, p);
             const double d = distance_to_tet(corners, p, w);
             const double tie = 1e-12 * bins.size;
