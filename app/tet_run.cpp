@@ -12,12 +12,12 @@
 #include "interruption.hpp"
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/timer.hpp"
-#include "mgelastic/geometry/tet_mesh_boundary.hpp"
 #include "mgelastic/geometry/tet_mesh_vtu.hpp"
 #include "mgelastic/io/surface_mesh_writers.hpp"
 #include "mgelastic/io/vtk_writers.hpp"
 #include "mgelastic/scene/tet_setup.hpp"
 #include "mgelastic/tet/corotated_solver.hpp"
+#include "mgelastic/tet/embedded_surface.hpp"
 #include "mgelastic/tet/polar_rotation.hpp"
 #include "run_checkpoints.hpp"
 
@@ -28,8 +28,6 @@ namespace {
 // converges linearly, slower the more the body is twisted (~0.97 per round for a bar stretched
 // 2.5x and turned once), so the cap is generous.
 constexpr int kStaticRounds = 300;
-
-using BoundarySurface = geometry::TetMeshBoundary;
 
 // Von Mises stress of the corotated linear stress per element: strain
 // eps = sym(R^T F) - I with R the polar rotation of F at the output positions (independent of the
@@ -52,17 +50,17 @@ Eigen::MatrixXd von_mises_stress(const tet::TetBody& body, const Eigen::VectorXd
   return stress;
 }
 
-// Writes one frame's files; returns its .pvd entries.
+// Writes one frame's files; returns its .pvd entries. `surface_rest` is the surface at rest.
 std::vector<io::SeriesEntry> write_frame(const scene::Scene& s, const scene::TetSetup& setup,
                                          const tet::CorotatedSolver& solver,
-                                         const BoundarySurface& surface,
+                                         const io::SurfaceVertices& surface_rest,
                                          const std::filesystem::path& dir, int frame, double time) {
   std::vector<io::SeriesEntry> entries;
   const Eigen::MatrixX3d positions = solver.positions_matrix();
   const Eigen::MatrixX3d displacement = positions - setup.mesh.vertices;
-  io::SurfaceVertices surface_vertices(static_cast<Eigen::Index>(surface.mesh_vertex.size()), 3);
-  for (std::size_t i = 0; i < surface.mesh_vertex.size(); ++i)
-    surface_vertices.row(static_cast<Eigen::Index>(i)) = positions.row(surface.mesh_vertex[i]);
+  const io::SurfaceVertices surface_vertices =
+      tet::embedded_positions(setup.surface, positions, setup.mesh.tets);
+  const io::SurfaceTriangles& triangles = setup.surface.triangles;
   if (wants(s, "vtk")) {
     geometry::TetMesh deformed = setup.mesh;
     deformed.vertices = positions;
@@ -74,17 +72,16 @@ std::vector<io::SeriesEntry> write_frame(const scene::Scene& s, const scene::Tet
     entries.push_back({time, name, 0});
     const std::string surface_name = frame_name("surface", frame, "vtp");
     io::DataArray surface_displacement{"displacement", 3, {}};
-    for (int v : surface.mesh_vertex)
-      for (int k = 0; k < 3; ++k) surface_displacement.values.push_back(displacement(v, k));
-    io::write_vtp(dir / surface_name, surface_vertices, surface.triangles, {surface_displacement},
+    const io::SurfaceVertices moved = surface_vertices - surface_rest;
+    surface_displacement.values.assign(moved.data(), moved.data() + moved.size());
+    io::write_vtp(dir / surface_name, surface_vertices, triangles, {surface_displacement},
                   vtk_encoding(s));
     entries.push_back({time, surface_name, 1});
   }
   if (wants(s, "obj"))
-    io::write_obj(dir / frame_name("surface", frame, "obj"), surface_vertices, surface.triangles);
+    io::write_obj(dir / frame_name("surface", frame, "obj"), surface_vertices, triangles);
   if (wants(s, "ply"))
-    io::write_ply(dir / frame_name("surface", frame, "ply"), surface_vertices, surface.triangles,
-                  true);
+    io::write_ply(dir / frame_name("surface", frame, "ply"), surface_vertices, triangles, true);
   return entries;
 }
 
@@ -188,7 +185,8 @@ void run_tet_scene(const scene::Scene& s, const std::filesystem::path& output_di
   tet::CorotatedSolver solver(setup.mesh, setup.materials, setup.settings);
   solver.set_dirichlet(setup.dirichlet_vertices, setup.motion);
   if (setup.surface_forces.size() > 0) solver.set_surface_forces(setup.surface_forces);
-  const BoundarySurface surface = geometry::tet_mesh_boundary(setup.mesh);
+  const io::SurfaceVertices surface_rest =
+      tet::embedded_positions(setup.surface, setup.mesh.vertices, setup.mesh.tets);
   const double setup_seconds = timer.seconds();
   std::error_code ec;
   std::filesystem::create_directories(output_dir, ec);
@@ -210,15 +208,22 @@ void run_tet_scene(const scene::Scene& s, const std::filesystem::path& output_di
   if (setup.cell_size > 0)
     std::snprintf(mesh, sizeof mesh, "%s, cube edge %.4g m", setup.mesh_source.c_str(),
                   setup.cell_size);
+  char embedded[200] = " (boundary of the tets)";
+  if (setup.cell_size > 0)
+    std::snprintf(embedded, sizeof embedded,
+                  " (input surface embedded in the tets: %td vertices, %d outside any tet, up to "
+                  "%.3g m; surface %.3f s, embedding %.3f s)",
+                  setup.surface.vertex_count(), setup.surface.outside_vertices,
+                  setup.surface.max_outside_distance, setup.surface_seconds, setup.embed_seconds);
   if (!s.time.quasistatic)
     std::snprintf(stepping, sizeof stepping, "dynamic, %d %s step(s) of %.4g s per frame",
                   s.time.substeps, s.time.integrator.c_str(), setup.settings.time_step);
   std::printf(
       "scene %s: tet engine, %d vertices, %d tets (%s), %zu Dirichlet vertices, %td surface "
-      "triangles\n"
+      "triangles%s\n"
       "  %s, rotations by %s, %s, %d frames of %.4g s\n",
       s.file.c_str(), setup.mesh.vertex_count(), setup.mesh.tet_count(), mesh,
-      setup.dirichlet_vertices.size(), surface.triangles.rows(), stepping,
+      setup.dirichlet_vertices.size(), setup.surface.triangles.rows(), embedded, stepping,
       rotation_name(setup.settings.rotation_method), solver_name, s.time.frames, s.time.dt);
   std::fflush(stdout);
 
@@ -275,7 +280,7 @@ void run_tet_scene(const scene::Scene& s, const std::filesystem::path& output_di
     total.solve_seconds += stats.solve_seconds;
 
     timer.restart();
-    for (const auto& entry : write_frame(s, setup, solver, surface, output_dir, frame, time))
+    for (const auto& entry : write_frame(s, setup, solver, surface_rest, output_dir, frame, time))
       series.push_back(entry);
     if (!series.empty()) io::write_pvd(output_dir / "simulation.pvd", series);
     const double frame_output_seconds = timer.seconds();

@@ -4,10 +4,15 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstdio>
+#include <ctime>
 #include <numbers>
 #include <string>
 
 #include "mgelastic/core/error.hpp"
+#include "mgelastic/geometry/primitives.hpp"
+#include "mgelastic/scene/build_shape.hpp"
+#include "mgelastic/scene/render_surface.hpp"
 #include "mgelastic/scene/scene.hpp"
 #include "mgelastic/scene/tet_setup.hpp"
 #include "mgelastic/tet/corotated_solver.hpp"
@@ -79,6 +84,29 @@ TEST(TetSetup, GeneratedSphereMeshCoversTheBallVolume) {
   // Centered grid: the mesh is as symmetric as the ball.
   EXPECT_NEAR(setup.mesh.vertices.col(0).minCoeff(), -setup.mesh.vertices.col(0).maxCoeff(),
               kCoordinate);
+}
+
+// A generated mesh carries the input surface: for a sphere the marching-cubes render surface the
+// grid engine would use (same spacing relative to the cube edge), every vertex on the sphere at
+// rest; most lie outside the cubes whose center is inside, so they are extrapolated.
+TEST(TetSetup, GeneratedMeshEmbedsTheRenderSurface) {
+  auto scene = bar_scene();
+  scene["geometry"] = {{"sphere", {{"radius", 0.5}}}};
+  scene["tet"]["resolution"] = 8;
+  scene["constraints"] = {
+      {{"region", {{"box", {{"center", {0, -0.5, 0}}, {"size", {1, 0.2, 1}}}}}}}};
+  const Scene parsed = parse_scene(scene, "scene.json", ".");
+  const TetSetup setup = build_tet_setup(parsed);
+  const geometry::TriangleMesh input =
+      rest_surface(parsed, *geometry::make_sphere(Eigen::Vector3d::Zero(), 0.5), setup.cell_size);
+  ASSERT_EQ(setup.surface.vertex_count(), input.vertex_count());
+  EXPECT_TRUE(setup.surface.triangles == input.triangles);
+  EXPECT_GT(setup.surface.outside_vertices, 0);
+  const tet::SurfacePoints rest =
+      tet::embedded_positions(setup.surface, setup.mesh.vertices, setup.mesh.tets);
+  EXPECT_LE((rest - input.vertices).cwiseAbs().maxCoeff(), kCoordinate);
+  // Marching cubes at spacing h / 2 = 0.0625: within 3 s^2 / (8 r) ~ 0.003 of the sphere.
+  EXPECT_LE((rest.rowwise().norm().array() - 0.5).abs().maxCoeff(), 0.01);
 }
 
 TEST(TetSetup, DirichletVerticesAreTheVerticesInsideTheRegions) {
@@ -190,6 +218,12 @@ TEST(TetSetup, TetMeshFileIsReadAndTransformed) {
   EXPECT_NEAR(setup.mesh.vertices(1, 0), 3.0, kCoordinate);  // 2 * 1 + 1
   EXPECT_NEAR(mesh_volume(setup.mesh), 8.0 / 6.0, kCoordinate);
   EXPECT_EQ(setup.dirichlet_vertices, std::vector<int>{0});
+  // A tet-mesh file shows its own boundary: the 4 faces of the tet on its 4 vertices.
+  EXPECT_EQ(setup.surface.triangles.rows(), 4);
+  const tet::SurfacePoints surface =
+      tet::embedded_positions(setup.surface, setup.mesh.vertices, setup.mesh.tets);
+  EXPECT_EQ(surface.rows(), 4);
+  EXPECT_NEAR(surface.col(0).sum(), setup.mesh.vertices.col(0).sum(), kCoordinate);
 }
 
 TEST(TetSetup, BadTetMeshFileErrorNamesSceneKeyAndMeshLine) {
@@ -215,6 +249,35 @@ TEST(TetSetup, ExampleSceneBuilds) {
   EXPECT_GT(setup.mesh.tet_count(), 0);
   EXPECT_TRUE(setup.animated);
   EXPECT_FALSE(setup.dirichlet_vertices.empty());
+}
+
+// Cost of the embedded surface on the example scene, in process CPU seconds (all threads):
+// marching cubes, embedding, and one frame's interpolation (averaged over 100). Disabled: a
+// measurement, not a check; run with --gtest_also_run_disabled_tests.
+TEST(TetSetup, DISABLED_ExampleSceneSurfaceCost) {
+  const Scene scene = load_scene(std::filesystem::path(MGELASTIC_SOURCE_DIR) /
+                                 "examples/scenes/tet_twisted_bar.json");
+  std::clock_t start = std::clock();
+  const TetSetup setup = build_tet_setup(scene);
+  const double setup_cpu = double(std::clock() - start) / CLOCKS_PER_SEC;
+  const geometry::TriangleMesh input =
+      rest_surface(scene, *build_shape(scene.geometry, scene.directory, scene.file, "/geometry"),
+                   setup.cell_size);
+  start = std::clock();
+  const tet::EmbeddedSurface embedded = tet::embed_surface(setup.mesh, input);
+  const double embed_cpu = double(std::clock() - start) / CLOCKS_PER_SEC;
+  constexpr int kFrames = 100;
+  start = std::clock();
+  double sink = 0.0;
+  for (int k = 0; k < kFrames; ++k)
+    sink += tet::embedded_positions(embedded, setup.mesh.vertices, setup.mesh.tets)(0, 0);
+  const double frame_cpu = double(std::clock() - start) / CLOCKS_PER_SEC / kFrames;
+  std::printf(
+      "%d tets, %td surface vertices (%d outside): build_tet_setup %.4f s, embed %.5f s, "
+      "interpolation %.2e s per frame (process CPU; wall in setup: surface %.4f s, embed %.5f s)\n",
+      setup.mesh.tet_count(), embedded.vertex_count(), embedded.outside_vertices, setup_cpu,
+      embed_cpu, frame_cpu, setup.surface_seconds, setup.embed_seconds);
+  EXPECT_GT(sink, -1e300);
 }
 
 // The paper's horse: stiff legs, soft knees. A material region overrides the tetrahedra whose

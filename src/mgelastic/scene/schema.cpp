@@ -227,12 +227,16 @@ Field build_schema() {
                        "size-independent)",
                        0, 0, 100)})});
   Field surface = object(
-      "surface", "Deformed embedded surface (grid engine, Sec. 9.3)",
-      {choice("interpolation", "How surface points follow the lattice", "tricubic",
+      "surface",
+      "Deformed embedded surface: the body's input surface carried by the lattice (grid engine, "
+      "Sec. 9.3) or by the tets of a generated tet mesh (tet engine, barycentric; a tet-mesh file "
+      "shows its own boundary faces)",
+      {choice("interpolation", "How surface points follow the lattice (grid engine)", "tricubic",
               {"trilinear", "tricubic"}),
        number("spacing",
-              "Marching-cubes spacing for primitive/CSG bodies, as a fraction of the cell size", "",
-              0.5, 0.0, true, 4.0)});
+              "Marching-cubes spacing for primitive/CSG bodies, as a fraction of the cell size "
+              "(grid engine) or cube edge (tet engine)",
+              "", 0.5, 0.0, true, 4.0)});
   Field formats = choice("", "Output format", "vtk", {"vtk", "obj", "ply"});
   Field output = object("output", "Results",
                         {Field{"dir", FieldType::STRING,

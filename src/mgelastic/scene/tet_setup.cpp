@@ -10,10 +10,12 @@
 #include <sstream>
 
 #include "mgelastic/core/error.hpp"
+#include "mgelastic/core/timer.hpp"
 #include "mgelastic/geometry/tet_mesh_boundary.hpp"
 #include "mgelastic/geometry/tet_mesh_grid.hpp"
 #include "mgelastic/geometry/tet_mesh_readers.hpp"
 #include "mgelastic/scene/build_shape.hpp"
+#include "mgelastic/scene/render_surface.hpp"
 
 namespace mgelastic::scene {
 namespace {
@@ -62,6 +64,18 @@ geometry::TetMesh read_scene_tet_mesh(const Scene& scene, TetSetup& setup) {
   return mesh;
 }
 
+// The stair-stepped boundary of the generated tets is a poor picture of a smooth body, so the
+// frames show the surface the mesh was generated from, carried by the tets.
+void embed_input_surface(const Scene& scene, const geometry::Shape& body,
+                         const geometry::TetMesh& mesh, TetSetup& setup) {
+  Timer timer;
+  const geometry::TriangleMesh surface = rest_surface(scene, body, setup.cell_size);
+  setup.surface_seconds = timer.seconds();
+  timer.restart();
+  setup.surface = tet::embed_surface(mesh, surface);
+  setup.embed_seconds = timer.seconds();
+}
+
 geometry::TetMesh generate_tet_mesh(const Scene& scene, TetSetup& setup) {
   const geometry::ShapePtr body =
       build_shape(scene.geometry, scene.directory, scene.file, "/geometry");
@@ -87,6 +101,7 @@ geometry::TetMesh generate_tet_mesh(const Scene& scene, TetSetup& setup) {
   }
   setup.cell_size = h;
   setup.mesh_source = "regular tet grid";
+  embed_input_surface(scene, *body, mesh, setup);
   return mesh;
 }
 
@@ -184,6 +199,7 @@ TetSetup build_tet_setup(const Scene& scene) {
                         is_tet_mesh_file(scene.geometry["mesh"].get<std::string>());
   setup.mesh = tet_file ? read_scene_tet_mesh(scene, setup) : generate_tet_mesh(scene, setup);
   const geometry::TetMesh& mesh = setup.mesh;
+  if (tet_file) setup.surface = tet::boundary_as_embedded(mesh, geometry::tet_mesh_boundary(mesh));
   setup.materials = tet::ElementMaterials::uniform(
       mesh.tet_count(), {scene.youngs_modulus, scene.poisson_ratio, scene.density});
   assign_region_materials(scene, mesh, setup.materials);

@@ -11,6 +11,10 @@
 // Constraints: every vertex whose rest position is inside a constraint region is a Dirichlet
 // vertex and follows that region's rigid keyframed motion (the first region listed wins where
 // regions overlap).
+// Surface: the frames show the body's input surface embedded in the tets (tet/embedded_surface.hpp)
+// when the mesh is generated from it: the triangles a surface-mesh geometry brings, the
+// marching-cubes render surface (render_surface.hpp, spacing output.surface.spacing * cube edge)
+// of primitives and CSG. A mesh read from a tet-mesh file shows its own boundary faces.
 // Settings: one solver step is time.dt / time.substeps; time.mass_damping and time.damping are
 // the Rayleigh coefficients alpha (of M) and beta (of K~).
 #include <string>
@@ -20,6 +24,7 @@
 #include "mgelastic/scene/scene.hpp"
 #include "mgelastic/tet/corotated_solver.hpp"
 #include "mgelastic/tet/element_materials.hpp"
+#include "mgelastic/tet/embedded_surface.hpp"
 
 namespace mgelastic::scene {
 
@@ -34,6 +39,9 @@ struct TetSetup {
   // Surface tractions lumped to vertices (3N, N): traction * area / 3 to each corner of every
   // boundary face whose centroid lies in a traction region; empty when there are none.
   Eigen::VectorXd surface_forces;
+  tet::EmbeddedSurface surface;  // what the frames show as the deformed surface
+  // Seconds to build the input surface (marching cubes or reading the file) and to embed it.
+  double surface_seconds = 0.0, embed_seconds = 0.0;
   double cell_size = 0.0;   // edge of the generating grid's cubes; 0 for a mesh read from a file
   std::string mesh_source;  // the tet-mesh file, or "regular tet grid"
   // True when some region moves (keyframed), i.e. frames differ even for a quasistatic run.
