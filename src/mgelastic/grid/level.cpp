@@ -542,21 +542,62 @@ std::size_t Level<Dim, Scalar>::interior_unknowns() const {
 }
 
 template <int Dim, typename Scalar>
+std::vector<ByteShare> Level<Dim, Scalar>::byte_breakdown() const {
+  const auto sum = [](const auto&... v) { return (vector_bytes(v) + ... + 0); };
+  const auto nested = [&](const auto& outer) {  // a vector of vectors, or an array of them
+    std::size_t total = 0;
+    for (const auto& inner : outer) total += vector_bytes(inner);
+    return total;
+  };
+  std::size_t fields = 0, kinds = 0, relaxations = 0;
+  for (int f = 0; f <= Dim; ++f) {
+    fields += sum(x[f], b[f], r[f]);
+    kinds += vector_bytes(kind[f]);
+    relaxations += vector_bytes(relaxation[f]);
+  }
+  std::size_t schedules = sum(pre_restriction_rows, post_prolongation_rows);
+  for (const auto& color : band_schedule)
+    for (const BandWork& work : color) schedules += sum(work.cell_blocks, work.point_rows);
+  for (const auto* schedule : {&pre_restriction_schedule, &post_prolongation_schedule})
+    for (const auto& color : *schedule) schedules += nested(color);
+  std::size_t rules = sum(traction.normal, traction.thin, traction.shear);
+  for (const auto& rule : traction.thin) rules += vector_bytes(rule.neighbors);
+  for (const auto& rule : traction.shear) rules += vector_bytes(rule.candidates);
+  const auto csr_values = [&](const SparseRows<Scalar>& rows) {
+    return sum(rows.start, rows.value, rows.constant);
+  };
+  const auto global_indices = [&](const SparseRows<Scalar>& rows) {
+    return sum(rows.target, rows.column);
+  };
+  const auto split_indices = [&](const SparseRows<Scalar>& rows) {
+    return sum(rows.target_field, rows.column_field, rows.target_index, rows.column_index);
+  };
+  return {
+      {"fields x b r", fields},
+      {"kind", kinds},
+      {"relaxation", relaxations},
+      {"cells, aligned faces", sum(cells, aligned_dirichlet_faces)},
+      {"cell weights", vector_bytes(cell_weight)},
+      {"band_u CSR start/value/constant", csr_values(band_u)},
+      {"band_u global target/column", global_indices(band_u)},
+      {"band_u split field/index", split_indices(band_u)},
+      {"band_u Schur diag, pressures",
+       sum(band_u_schur_diagonal, band_u_pressure, band_u_pressure_factor)},
+      {"band_p rows (all forms)", csr_values(band_p) + global_indices(band_p) +
+                                      split_indices(band_p) + sum(band_p_extra, band_p_inverse)},
+      {"band blocks, inverses, points", sum(band_blocks, band_block_inverse, band_point_rows)},
+      {"band kernel (patterns)", band_kernel.bytes()},
+      {"band runs", band_runs.bytes()},
+      {"schedules, Fig. 8 rows", schedules},
+      {"block partition", nested(blocks.colors)},
+      {"traction rules", rules},
+  };
+}
+
+template <int Dim, typename Scalar>
 std::size_t Level<Dim, Scalar>::bytes() const {
-  std::size_t total = vector_bytes(cells) + vector_bytes(cell_weight);
-  for (int f = 0; f <= Dim; ++f)
-    total += vector_bytes(x[f]) + vector_bytes(b[f]) + vector_bytes(r[f]) + vector_bytes(kind[f]) +
-             vector_bytes(relaxation[f]);
-  for (const auto* rows : {&band_u, &band_p})
-    total += vector_bytes(rows->target) + vector_bytes(rows->start) + vector_bytes(rows->column) +
-             vector_bytes(rows->value) + vector_bytes(rows->constant) +
-             vector_bytes(rows->target_field) + vector_bytes(rows->column_field) +
-             vector_bytes(rows->target_index) + vector_bytes(rows->column_index);
-  total += vector_bytes(band_u_schur_diagonal) + vector_bytes(band_u_pressure) +
-           vector_bytes(band_u_pressure_factor) + vector_bytes(band_p_extra) +
-           vector_bytes(band_p_inverse) + vector_bytes(band_blocks) +
-           vector_bytes(band_block_inverse) + vector_bytes(band_point_rows) + band_kernel.bytes() +
-           band_runs.bytes();
+  std::size_t total = 0;
+  for (const ByteShare& share : byte_breakdown()) total += share.bytes;
   return total;
 }
 

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "mgelastic/grid/band_kernel.hpp"
@@ -73,6 +74,12 @@ struct TractionRules {
   std::vector<NormalTractionRule<Scalar>> normal;
   std::vector<ThinTractionRule<Scalar>> thin;
   std::vector<ShearTractionRule<Scalar>> shear;
+};
+
+// One named group of a level's arrays and the bytes it holds (Level::byte_breakdown).
+struct ByteShare {
+  std::string name;
+  std::size_t bytes = 0;
 };
 
 // Boundary stress values for the eliminated stresses (see problem.hpp); empty = zero traction.
@@ -152,7 +159,9 @@ struct Level {
     return x[global_index / size()][global_index % size()];
   }
   std::size_t interior_unknowns() const;  // interior u and p variables
-  std::size_t bytes() const;              // memory held by the level's arrays
+  // Memory held by the level's arrays, by group (capacity, as vector_bytes), and in total.
+  std::vector<ByteShare> byte_breakdown() const;
+  std::size_t bytes() const;
 };
 
 // Builds a level: classifies variables, picks distributive vs band relaxation, builds the band

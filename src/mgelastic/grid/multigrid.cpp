@@ -204,6 +204,21 @@ std::size_t Multigrid<Dim, Scalar>::bytes() const {
 }
 
 template <int Dim, typename Scalar>
+std::vector<ByteShare> Multigrid<Dim, Scalar>::byte_breakdown() const {
+  std::vector<ByteShare> total = m_levels.front().byte_breakdown();
+  for (std::size_t l = 1; l < m_levels.size(); ++l) {
+    const std::vector<ByteShare> shares = m_levels[l].byte_breakdown();
+    for (std::size_t i = 0; i < shares.size(); ++i) total[i].bytes += shares[i].bytes;
+  }
+  if (m_solution)
+    for (ByteShare share : m_solution->byte_breakdown()) {
+      share.name = "solution " + share.name;
+      total.push_back(std::move(share));
+    }
+  return total;
+}
+
+template <int Dim, typename Scalar>
 double Multigrid<Dim, Scalar>::solution(int field, std::ptrdiff_t k) const {
   return m_solution ? m_solution->x[field][k] : static_cast<double>(m_levels.front().x[field][k]);
 }
