@@ -27,20 +27,21 @@ enum class VarKind : std::uint8_t { INACTIVE = 0, INTERIOR = 1, DIRICHLET = 2, T
 // Which smoother relaxes the equation collocated with an interior variable.
 enum class Relaxation : std::uint8_t { NONE = 0, DISTRIBUTIVE = 1, BAND = 2 };
 
-// Explicit rows in CSR form over global variable indices. Row value = sum value * x[column];
+// Explicit rows in CSR form. Row value = sum value[e] * x[column_field[e]][column_index[e]];
 // `constant` holds boundary stresses moved to the right-hand side (equation: row = b - constant).
+// Entries are stored once, as (field, flat index): the sweeps read x[field][index] without
+// dividing, and a global variable index (level.hpp) is field * size + index. Per entry 5 bytes
+// of index + one Scalar; per row the target in both forms (rows are few next to entries).
 template <typename Scalar>
 struct SparseRows {
   std::vector<std::uint32_t> target;  // global index of the row's own (collocated) variable
   std::vector<std::uint32_t> start{0};
-  std::vector<std::uint32_t> column;
   std::vector<Scalar> value;
   std::vector<Scalar> constant;
-  // The same indices split into (field, flat index) for the sweeps, which then read
-  // x[field][index] without dividing.
   std::vector<std::uint8_t> target_field, column_field;
   std::vector<std::uint32_t> target_index, column_index;
   std::size_t rows() const { return target.size(); }
+  std::size_t entries() const { return value.size(); }
 };
 
 // Back-substitution of traction variables (Sec. 5.3, last paragraph). First the faces between an
