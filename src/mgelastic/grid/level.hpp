@@ -6,6 +6,15 @@
 // Fields (x = unknowns incl. Dirichlet and back-substituted traction values, b = right-hand
 // side, r = residual scratch) are arrays of lattice.size() entries in the layout of lattice.hpp;
 // index 0..Dim-1 is u_i, index Dim is p. A "global variable index" is field * size + k.
+//
+// Memory (byte_breakdown(); docs/performance.md "Memory per unknown"). Per lattice point and
+// field: x, b, r (3 Scalars), kind and relaxation (1 byte each); per cell its type. Per band
+// row: target (global index and (field, index)), start, constant, Schur diagonal, eliminated
+// pressures. Per band entry: (field, index, value), the only copy of its column (5 bytes of
+// index + one Scalar). On top, for the sweeps: compact patterns (band_kernel), cell blocks
+// with their inverses, runs and colored schedules. Band arrays are trimmed to their size after
+// the build. The double-precision solution level of a mixed-precision solve keeps only what
+// residuals, corrections and traction back-substitution read (Multigrid drops the rest).
 #include <array>
 #include <cstdint>
 #include <functional>
