@@ -83,6 +83,18 @@ void add_roofline(nlohmann::json& record, const grid::Multigrid<Dim, Scalar>& mg
                         {"unattributed_seconds", table.unattributed_seconds}};
 }
 
+// Where the working set goes: Multigrid::byte_breakdown in bytes per unknown, in its order.
+template <int Dim, typename Scalar>
+nlohmann::json memory_breakdown_json(const grid::Multigrid<Dim, Scalar>& mg) {
+  nlohmann::json shares = nlohmann::json::array();
+  const double unknowns = static_cast<double>(mg.unknowns());
+  for (const grid::ByteShare& share : mg.byte_breakdown())
+    shares.push_back({{"name", share.name},
+                      {"bytes", share.bytes},
+                      {"bytes_per_unknown", static_cast<double>(share.bytes) / unknowns}});
+  return shares;
+}
+
 template <int Dim, typename Scalar>
 nlohmann::json convergence(const BoxBenchOptions& o) {
   grid::MultigridOptions options = multigrid_options(o);
@@ -108,6 +120,7 @@ nlohmann::json convergence(const BoxBenchOptions& o) {
       {"solve_seconds", report.seconds},
       {"vcycle_seconds", report.seconds / std::max(1, report.cycles())},
       {"working_set_bytes", mg.bytes()},
+      {"memory_breakdown", memory_breakdown_json(mg)},
       {"threads", thread_count()},
       {"phase_seconds", phase_seconds_json(phases)}};
   add_roofline(record, mg, report, o.triad_gb_per_s);
@@ -325,6 +338,7 @@ nlohmann::json mesh_vcycle(const std::string& file, int resolution, const BoxBen
                            {"rate", grid::convergence_rate(report.residuals, 1e-11)},
                            {"vcycle_seconds", report.seconds / std::max(1, report.cycles())},
                            {"working_set_bytes", mg.bytes()},
+                           {"memory_breakdown", memory_breakdown_json(mg)},
                            {"threads", thread_count()},
                            {"phase_seconds", phase_seconds_json(phases)}};
   add_roofline(record, mg, report, o.triad_gb_per_s);
@@ -380,6 +394,18 @@ void print_profile_summary(const nlohmann::json& records, const BoxBenchOptions&
   for (const auto& r : records)
     std::printf(" | %9.0f", r["working_set_bytes"].get<double>() / r["unknowns"].get<double>());
   std::printf("\n");
+  // The breakdown rows (the same groups in every run of one precision).
+  std::printf("%-36s", "bytes per unknown by array group");
+  for (const auto& r : records)
+    std::printf(" | %9.0f", r["working_set_bytes"].get<double>() / r["unknowns"].get<double>());
+  std::printf("\n");
+  const nlohmann::json& groups = records.front()["memory_breakdown"];
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    std::printf("  %-34s", groups[g]["name"].get<std::string>().c_str());
+    for (const auto& r : records)
+      std::printf(" | %9.2f", r["memory_breakdown"][g]["bytes_per_unknown"].get<double>());
+    std::printf("\n");
+  }
   for (const auto& r : records)
     if (r.contains("mesh"))
       std::printf("mesh %s: %zu interior cells at resolution %d\n",

@@ -27,7 +27,7 @@ template <typename Scalar>
 double sparse_rows_bytes(const SparseRows<Scalar>& rows, double per_row_scalars) {
   constexpr double S = sizeof(Scalar);
   const double count = static_cast<double>(rows.rows());
-  const double entries = static_cast<double>(rows.column.size());
+  const double entries = static_cast<double>(rows.entries());
   return count * (kField + 2 * kIndex + (2 + per_row_scalars) * S) +
          entries * (kField + kIndex + S);
 }

@@ -160,25 +160,17 @@ struct RelocationTest {
 };
 
 template <typename Scalar>
-struct SparseRowsViewT {
-  const std::vector<std::uint32_t>& start;
-  const std::vector<std::uint32_t>& column;
-  const std::vector<Scalar>& value;
-};
-
-template <typename Scalar>
 void append_row(SparseRows<Scalar>& rows, std::uint32_t target, const ExplicitRow& row,
                 std::size_t size) {
   rows.target.push_back(target);
   rows.target_field.push_back(static_cast<std::uint8_t>(target / size));
   rows.target_index.push_back(static_cast<std::uint32_t>(target % size));
   for (const RowTerm& t : row.terms) {
-    rows.column.push_back(t.variable);
     rows.column_field.push_back(static_cast<std::uint8_t>(t.variable / size));
     rows.column_index.push_back(static_cast<std::uint32_t>(t.variable % size));
     rows.value.push_back(static_cast<Scalar>(t.coefficient));
   }
-  rows.start.push_back(static_cast<std::uint32_t>(rows.column.size()));
+  rows.start.push_back(static_cast<std::uint32_t>(rows.entries()));
   rows.constant.push_back(static_cast<Scalar>(row.constant));
 }
 
@@ -331,10 +323,14 @@ void build_band_rows(Level<Dim, Scalar>& level, const RowBuilder<Dim>& builder,
   }
 }
 
-template <typename View>
-double row_coefficient(const View& rows, std::uint32_t m, std::uint32_t variable) {
+// Coefficient of global variable `variable` in row m (0 when absent).
+template <typename Scalar>
+double row_coefficient(const SparseRows<Scalar>& rows, std::uint32_t m, std::uint32_t variable,
+                       std::size_t size) {
+  const auto field = static_cast<std::uint8_t>(variable / size);
+  const auto index = static_cast<std::uint32_t>(variable % size);
   for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e)
-    if (rows.column[e] == variable) return rows.value[e];
+    if (rows.column_field[e] == field && rows.column_index[e] == index) return rows.value[e];
   return 0.0;
 }
 
@@ -359,7 +355,6 @@ void build_band_blocks(Level<Dim, Scalar>& level) {
       }
     }
     if (count < 2) continue;
-    const SparseRowsViewT<Scalar> view{level.band_u.start, level.band_u.column, level.band_u.value};
     const std::uint32_t pc = level.band_p.target[e];
     Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic> s(count, count);
     for (int a = 0; a < count; ++a) {
@@ -368,10 +363,11 @@ void build_band_blocks(Level<Dim, Scalar>& level) {
           s(a, a) = level.band_u_schur_diagonal[rows[a]];
           continue;
         }
-        const double g_a = row_coefficient(view, rows[a], pc);
-        const double g_b = row_coefficient(view, rows[b], pc);
-        s(a, b) = row_coefficient(view, rows[a], level.band_u.target[rows[b]]) -
-                  g_a * g_b * level.band_p_inverse[e] / fill_weight(level, c);
+        const double g_a = row_coefficient(level.band_u, rows[a], pc, level.size());
+        const double g_b = row_coefficient(level.band_u, rows[b], pc, level.size());
+        s(a, b) =
+            row_coefficient(level.band_u, rows[a], level.band_u.target[rows[b]], level.size()) -
+            g_a * g_b * level.band_p_inverse[e] / fill_weight(level, c);
       }
     }
     // S_loc is a principal block of the symmetric negative definite Schur complement.
@@ -542,22 +538,80 @@ std::size_t Level<Dim, Scalar>::interior_unknowns() const {
 }
 
 template <int Dim, typename Scalar>
+std::vector<ByteShare> Level<Dim, Scalar>::byte_breakdown() const {
+  const auto sum = [](const auto&... v) { return (vector_bytes(v) + ... + 0); };
+  const auto nested = [&](const auto& outer) {  // a vector of vectors, or an array of them
+    std::size_t total = 0;
+    for (const auto& inner : outer) total += vector_bytes(inner);
+    return total;
+  };
+  std::size_t fields = 0, kinds = 0, relaxations = 0;
+  for (int f = 0; f <= Dim; ++f) {
+    fields += sum(x[f], b[f], r[f]);
+    kinds += vector_bytes(kind[f]);
+    relaxations += vector_bytes(relaxation[f]);
+  }
+  std::size_t schedules = sum(pre_restriction_rows, post_prolongation_rows);
+  for (const auto& color : band_schedule)
+    for (const BandWork& work : color) schedules += sum(work.cell_blocks, work.point_rows);
+  for (const auto* schedule : {&pre_restriction_schedule, &post_prolongation_schedule})
+    for (const auto& color : *schedule) schedules += nested(color);
+  std::size_t rules = sum(traction.normal, traction.thin, traction.shear);
+  for (const auto& rule : traction.thin) rules += vector_bytes(rule.neighbors);
+  for (const auto& rule : traction.shear) rules += vector_bytes(rule.candidates);
+  const auto csr_values = [&](const SparseRows<Scalar>& rows) {
+    return sum(rows.start, rows.value, rows.constant);
+  };
+  const auto global_indices = [&](const SparseRows<Scalar>& rows) {
+    return vector_bytes(rows.target);
+  };
+  const auto split_indices = [&](const SparseRows<Scalar>& rows) {
+    return sum(rows.target_field, rows.column_field, rows.target_index, rows.column_index);
+  };
+  return {
+      {"fields x b r", fields},
+      {"kind", kinds},
+      {"relaxation", relaxations},
+      {"cells, aligned faces", sum(cells, aligned_dirichlet_faces)},
+      {"cell weights", vector_bytes(cell_weight)},
+      {"band_u CSR start/value/constant", csr_values(band_u)},
+      {"band_u global target", global_indices(band_u)},
+      {"band_u split field/index", split_indices(band_u)},
+      {"band_u Schur diag, pressures",
+       sum(band_u_schur_diagonal, band_u_pressure, band_u_pressure_factor)},
+      {"band_p rows (all forms)", csr_values(band_p) + global_indices(band_p) +
+                                      split_indices(band_p) + sum(band_p_extra, band_p_inverse)},
+      {"band blocks, inverses, points", sum(band_blocks, band_block_inverse, band_point_rows)},
+      {"band kernel (patterns)", band_kernel.bytes()},
+      {"band runs", band_runs.bytes()},
+      {"schedules, Fig. 8 rows", schedules},
+      {"block partition", nested(blocks.colors)},
+      {"traction rules", rules},
+  };
+}
+
+template <int Dim, typename Scalar>
 std::size_t Level<Dim, Scalar>::bytes() const {
-  std::size_t total = vector_bytes(cells) + vector_bytes(cell_weight);
-  for (int f = 0; f <= Dim; ++f)
-    total += vector_bytes(x[f]) + vector_bytes(b[f]) + vector_bytes(r[f]) + vector_bytes(kind[f]) +
-             vector_bytes(relaxation[f]);
-  for (const auto* rows : {&band_u, &band_p})
-    total += vector_bytes(rows->target) + vector_bytes(rows->start) + vector_bytes(rows->column) +
-             vector_bytes(rows->value) + vector_bytes(rows->constant) +
-             vector_bytes(rows->target_field) + vector_bytes(rows->column_field) +
-             vector_bytes(rows->target_index) + vector_bytes(rows->column_index);
-  total += vector_bytes(band_u_schur_diagonal) + vector_bytes(band_u_pressure) +
-           vector_bytes(band_u_pressure_factor) + vector_bytes(band_p_extra) +
-           vector_bytes(band_p_inverse) + vector_bytes(band_blocks) +
-           vector_bytes(band_block_inverse) + vector_bytes(band_point_rows) + band_kernel.bytes() +
-           band_runs.bytes();
+  std::size_t total = 0;
+  for (const ByteShare& share : byte_breakdown()) total += share.bytes;
   return total;
+}
+
+// The band arrays and traction rules grow by push_back, which leaves up to half of each
+// allocation unused for the level's lifetime; they are trimmed once built (nothing keeps
+// pointers into them: the sweeps take their views per call).
+template <int Dim, typename Scalar>
+void shrink_band_arrays(Level<Dim, Scalar>& level) {
+  const auto shrink = [](auto&... v) { (v.shrink_to_fit(), ...); };
+  for (auto* rows : {&level.band_u, &level.band_p})
+    shrink(rows->target, rows->start, rows->value, rows->constant, rows->target_field,
+           rows->column_field, rows->target_index, rows->column_index);
+  shrink(level.band_u_schur_diagonal, level.band_u_pressure, level.band_u_pressure_factor,
+         level.band_p_extra, level.band_p_inverse, level.pre_restriction_rows,
+         level.post_prolongation_rows, level.band_blocks, level.band_block_inverse,
+         level.band_point_rows, level.traction.normal, level.traction.thin, level.traction.shear);
+  for (auto& rule : level.traction.thin) rule.neighbors.shrink_to_fit();
+  for (auto& rule : level.traction.shear) rule.candidates.shrink_to_fit();
 }
 
 template <int Dim, typename Scalar>
@@ -602,6 +656,7 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
   build_band_schedule(level);
   build_band_runs(level);
   build_traction_rules(level, sigma);
+  shrink_band_arrays(level);
   return level;
 }
 

@@ -6,9 +6,19 @@
 // Fields (x = unknowns incl. Dirichlet and back-substituted traction values, b = right-hand
 // side, r = residual scratch) are arrays of lattice.size() entries in the layout of lattice.hpp;
 // index 0..Dim-1 is u_i, index Dim is p. A "global variable index" is field * size + k.
+//
+// Memory (byte_breakdown(); docs/performance.md "Memory per unknown"). Per lattice point and
+// field: x, b, r (3 Scalars), kind and relaxation (1 byte each); per cell its type. Per band
+// row: target (global index and (field, index)), start, constant, Schur diagonal, eliminated
+// pressures. Per band entry: (field, index, value), the only copy of its column (5 bytes of
+// index + one Scalar). On top, for the sweeps: compact patterns (band_kernel), cell blocks
+// with their inverses, runs and colored schedules. Band arrays are trimmed to their size after
+// the build. The double-precision solution level of a mixed-precision solve keeps only what
+// residuals, corrections and traction back-substitution read (Multigrid drops the rest).
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "mgelastic/grid/band_kernel.hpp"
@@ -26,20 +36,21 @@ enum class VarKind : std::uint8_t { INACTIVE = 0, INTERIOR = 1, DIRICHLET = 2, T
 // Which smoother relaxes the equation collocated with an interior variable.
 enum class Relaxation : std::uint8_t { NONE = 0, DISTRIBUTIVE = 1, BAND = 2 };
 
-// Explicit rows in CSR form over global variable indices. Row value = sum value * x[column];
+// Explicit rows in CSR form. Row value = sum value[e] * x[column_field[e]][column_index[e]];
 // `constant` holds boundary stresses moved to the right-hand side (equation: row = b - constant).
+// Entries are stored once, as (field, flat index): the sweeps read x[field][index] without
+// dividing, and a global variable index (level.hpp) is field * size + index. Per entry 5 bytes
+// of index + one Scalar; per row the target in both forms (rows are few next to entries).
 template <typename Scalar>
 struct SparseRows {
   std::vector<std::uint32_t> target;  // global index of the row's own (collocated) variable
   std::vector<std::uint32_t> start{0};
-  std::vector<std::uint32_t> column;
   std::vector<Scalar> value;
   std::vector<Scalar> constant;
-  // The same indices split into (field, flat index) for the sweeps, which then read
-  // x[field][index] without dividing.
   std::vector<std::uint8_t> target_field, column_field;
   std::vector<std::uint32_t> target_index, column_index;
   std::size_t rows() const { return target.size(); }
+  std::size_t entries() const { return value.size(); }
 };
 
 // Back-substitution of traction variables (Sec. 5.3, last paragraph). First the faces between an
@@ -73,6 +84,12 @@ struct TractionRules {
   std::vector<NormalTractionRule<Scalar>> normal;
   std::vector<ThinTractionRule<Scalar>> thin;
   std::vector<ShearTractionRule<Scalar>> shear;
+};
+
+// One named group of a level's arrays and the bytes it holds (Level::byte_breakdown).
+struct ByteShare {
+  std::string name;
+  std::size_t bytes = 0;
 };
 
 // Boundary stress values for the eliminated stresses (see problem.hpp); empty = zero traction.
@@ -152,7 +169,9 @@ struct Level {
     return x[global_index / size()][global_index % size()];
   }
   std::size_t interior_unknowns() const;  // interior u and p variables
-  std::size_t bytes() const;              // memory held by the level's arrays
+  // Memory held by the level's arrays, by group (capacity, as vector_bytes), and in total.
+  std::vector<ByteShare> byte_breakdown() const;
+  std::size_t bytes() const;
 };
 
 // Builds a level: classifies variables, picks distributive vs band relaxation, builds the band

@@ -60,6 +60,22 @@ bool may_coarsen(const Lattice<Dim>& lattice, const std::vector<CellType>& cells
   return (lattice.cells.maxCoeff() + 1) / 2 >= options.coarsest_min_cells;
 }
 
+// The double-precision solution level of a mixed-precision solve is never smoothed: it holds
+// x and b, evaluates residuals (band rows), takes corrections and back-substitutes traction
+// values. What only the band sweeps read (Schur diagonals and eliminated-pressure factors, the
+// compact kernel built from them, runs, blocks and their inverses, colored schedules, Fig. 8
+// row sets) would double the band's memory, so it is dropped after the build (the block
+// partition itself is a few hundred bytes).
+template <int Dim>
+void release_sweep_data(Level<Dim, double>& level) {
+  // Assigning a fresh object frees the storage (`v = {}` would keep a vector's capacity).
+  const auto release = [](auto&... v) { ((v = std::remove_cvref_t<decltype(v)>()), ...); };
+  release(level.band_u_schur_diagonal, level.band_u_pressure, level.band_u_pressure_factor,
+          level.pre_restriction_rows, level.post_prolongation_rows, level.band_blocks,
+          level.band_block_inverse, level.band_point_rows, level.band_kernel, level.band_schedule,
+          level.pre_restriction_schedule, level.post_prolongation_schedule, level.band_runs);
+}
+
 // Mixed precision: the float level solves L e = r with a zero initial correction. Elementwise,
 // so the static parallel loops give the same values for any thread count.
 template <int Dim, typename Scalar>
@@ -151,6 +167,7 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
     m_solution = std::make_unique<Level<Dim, double>>(build_level<Dim, double>(
         lattices[0], cells[0], problem.material, problem.boundary_stress,
         lattices.size() > 1 ? &cells[1] : nullptr, problem.inertia, m_options.band_layers));
+    release_sweep_data(*m_solution);
     set_dirichlet_values(*m_solution, problem.dirichlet_displacement);
     set_right_hand_side(problem, *m_solution);
     back_substitute_traction(*m_solution);
@@ -200,6 +217,21 @@ template <int Dim, typename Scalar>
 std::size_t Multigrid<Dim, Scalar>::bytes() const {
   std::size_t total = m_solution ? m_solution->bytes() : 0;
   for (const auto& level : m_levels) total += level.bytes();
+  return total;
+}
+
+template <int Dim, typename Scalar>
+std::vector<ByteShare> Multigrid<Dim, Scalar>::byte_breakdown() const {
+  std::vector<ByteShare> total = m_levels.front().byte_breakdown();
+  for (std::size_t l = 1; l < m_levels.size(); ++l) {
+    const std::vector<ByteShare> shares = m_levels[l].byte_breakdown();
+    for (std::size_t i = 0; i < shares.size(); ++i) total[i].bytes += shares[i].bytes;
+  }
+  if (m_solution)
+    for (ByteShare share : m_solution->byte_breakdown()) {
+      share.name = "solution " + share.name;
+      total.push_back(std::move(share));
+    }
   return total;
 }
 

@@ -133,6 +133,9 @@ class Multigrid {
   std::size_t coarse_factor_bytes() const { return m_coarse->factor_bytes(); }
   // Memory of all levels' arrays (the working set of a cycle, without the coarse factor).
   std::size_t bytes() const;
+  // bytes() by Level::byte_breakdown group, summed over the levels; the double-precision
+  // solution level of a mixed-precision solve (below) in groups of its own ("solution ...").
+  std::vector<ByteShare> byte_breakdown() const;
   const PhaseSeconds& phase_seconds() const { return m_phases; }
   // The finest level in double precision that holds the solution x and the right-hand side b
   // (the float finest level solves only corrections in mixed precision). Time integrators
