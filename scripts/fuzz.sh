@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (preset fuzz: clang, ASan + UBSan) and runs each for a bounded
-# time on a working copy of its seed corpus; fails on any crash, hang, leak or sanitizer report.
+# time on a working copy of its seed corpus, as many targets at once as there are cores; fails
+# on any crash, hang, leak or sanitizer report.
 #
 #   scripts/fuzz.sh [seconds-per-target] [target ...]      (default: 30 s, all targets)
 #   MGELASTIC_FUZZ_RUNS=1000000 scripts/fuzz.sh 3600 obj   (stop at a number of executions)
@@ -22,33 +23,47 @@ cmake --build --preset fuzz -j "$(nproc)"
 
 runs_flag=()
 if [ -n "${MGELASTIC_FUZZ_RUNS:-}" ]; then runs_flag=(-runs="$MGELASTIC_FUZZ_RUNS"); fi
-failed=()
-printf '%-8s %12s %8s %10s %s\n' target executions seconds exec/s result
-for t in "${targets[@]}"; do
-  corpus=build/fuzz/corpus/$t
-  artifacts=build/fuzz/artifacts/$t/
-  log=build/fuzz/fuzz_$t.log
+# One target: fuzz it for the given time; writes its result line to build/fuzz/fuzz_<t>.result.
+fuzz_target() {
+  local t=$1 corpus=build/fuzz/corpus/$1 artifacts=build/fuzz/artifacts/$1/
+  local log=build/fuzz/fuzz_$1.log start status=0
   mkdir -p "$corpus" "$artifacts"
   for seed in fuzz/corpus/"$t"/*; do
     [ -e "$corpus/${seed##*/}" ] || cp "$seed" "$corpus/"
   done
   start=$(date +%s)
-  status=0
   # -timeout: an input taking more than 10 s is a hang; -rss_limit_mb: a reader must not need
   # gigabytes for a small file (libFuzzer also fails a single malloc above this limit).
   build/fuzz/fuzz/fuzz_"$t" -max_total_time="$seconds" "${runs_flag[@]}" -timeout=10 \
     -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$artifacts" "$corpus" \
     >"$log" 2>&1 || status=$?
-  elapsed=$(($(date +%s) - start))
+  local elapsed=$(($(date +%s) - start)) executions rate result=ok
   executions=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   executions=${executions:-0}
   rate=$((executions / (elapsed > 0 ? elapsed : 1)))
-  result=ok
-  if [ "$status" -ne 0 ]; then
-    result="FAILED (exit $status, log $log)"
-    failed+=("$t")
+  [ "$status" -eq 0 ] || result="FAILED (exit $status, log $log)"
+  printf '%-8s %12s %8s %10s %s\n' "$t" "$executions" "$elapsed" "$rate" "$result" \
+    >"build/fuzz/fuzz_$t.result"
+}
+
+# As many targets at once as there are cores (each fuzzer is single-threaded).
+rm -f build/fuzz/fuzz_*.result
+jobs=$(nproc)
+running=0
+for t in "${targets[@]}"; do
+  fuzz_target "$t" &
+  running=$((running + 1))
+  if [ "$running" -ge "$jobs" ]; then
+    wait -n || true
+    running=$((running - 1))
   fi
-  printf '%-8s %12s %8s %10s %s\n' "$t" "$executions" "$elapsed" "$rate" "$result"
+done
+wait
+failed=()
+printf '%-8s %12s %8s %10s %s\n' target executions seconds exec/s result
+for t in "${targets[@]}"; do
+  cat "build/fuzz/fuzz_$t.result"
+  grep -q ' ok$' "build/fuzz/fuzz_$t.result" || failed+=("$t")
 done
 if [ ${#failed[@]} -ne 0 ]; then
   for t in "${failed[@]}"; do
