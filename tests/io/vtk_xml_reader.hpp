@@ -56,7 +56,8 @@ template <typename T>
 std::vector<double> reinterpret_bytes(const std::string& bytes) {
   EXPECT_EQ(bytes.size() % sizeof(T), 0u);
   std::vector<T> typed(bytes.size() / sizeof(T));
-  std::memcpy(typed.data(), bytes.data(), typed.size() * sizeof(T));
+  // An empty vector's data() may be null, which memcpy must not get even for 0 bytes (UBSan).
+  if (!typed.empty()) std::memcpy(typed.data(), bytes.data(), typed.size() * sizeof(T));
   return {typed.begin(), typed.end()};
 }
 
