@@ -95,6 +95,18 @@ nlohmann::json memory_breakdown_json(const grid::Multigrid<Dim, Scalar>& mg) {
   return shares;
 }
 
+// The fields every V-cycle record shares: seconds per cycle, memory, phases and roofline.
+template <int Dim, typename Scalar>
+void add_cycle_fields(nlohmann::json& record, const grid::Multigrid<Dim, Scalar>& mg,
+                      const grid::SolveReport& report, double triad_gb_per_s) {
+  record["vcycle_seconds"] = report.seconds / std::max(1, report.cycles());
+  record["working_set_bytes"] = mg.bytes();
+  record["memory_breakdown"] = memory_breakdown_json(mg);
+  record["threads"] = thread_count();
+  record["phase_seconds"] = phase_seconds_json(mg.phase_seconds());
+  add_roofline(record, mg, report, triad_gb_per_s);
+}
+
 template <int Dim, typename Scalar>
 nlohmann::json convergence(const BoxBenchOptions& o) {
   grid::MultigridOptions options = multigrid_options(o);
@@ -102,7 +114,6 @@ nlohmann::json convergence(const BoxBenchOptions& o) {
   const grid::SolveReport report = mg.run_cycles(o.cycles);
   // Residuals are evaluated in double in both precisions (float runs mixed precision).
   const double floor = 1e-11;
-  const auto& phases = mg.phase_seconds();
   nlohmann::json record = {
       {"benchmark", "convergence"},
       {"dim", Dim},
@@ -117,13 +128,8 @@ nlohmann::json convergence(const BoxBenchOptions& o) {
       {"residuals", report.residuals},
       {"relative_residual", report.residuals.back() / report.residuals.front()},
       {"rate", grid::convergence_rate(report.residuals, floor)},
-      {"solve_seconds", report.seconds},
-      {"vcycle_seconds", report.seconds / std::max(1, report.cycles())},
-      {"working_set_bytes", mg.bytes()},
-      {"memory_breakdown", memory_breakdown_json(mg)},
-      {"threads", thread_count()},
-      {"phase_seconds", phase_seconds_json(phases)}};
-  add_roofline(record, mg, report, o.triad_gb_per_s);
+      {"solve_seconds", report.seconds}};
+  add_cycle_fields(record, mg, report, o.triad_gb_per_s);
   return record;
 }
 
@@ -322,7 +328,6 @@ nlohmann::json mesh_vcycle(const std::string& file, int resolution, const BoxBen
   options.band_layers = 1;  // the scenes' default
   grid::Multigrid<3, float> mg(setup.problem, options);
   const grid::SolveReport report = mg.run_cycles(o.cycles);
-  const auto& phases = mg.phase_seconds();
   nlohmann::json record = {{"benchmark", "convergence"},
                            {"mesh", file},
                            {"dim", 3},
@@ -335,13 +340,8 @@ nlohmann::json mesh_vcycle(const std::string& file, int resolution, const BoxBen
                            {"levels", mg.levels()},
                            {"unknowns", mg.unknowns()},
                            {"residuals", report.residuals},
-                           {"rate", grid::convergence_rate(report.residuals, 1e-11)},
-                           {"vcycle_seconds", report.seconds / std::max(1, report.cycles())},
-                           {"working_set_bytes", mg.bytes()},
-                           {"memory_breakdown", memory_breakdown_json(mg)},
-                           {"threads", thread_count()},
-                           {"phase_seconds", phase_seconds_json(phases)}};
-  add_roofline(record, mg, report, o.triad_gb_per_s);
+                           {"rate", grid::convergence_rate(report.residuals, 1e-11)}};
+  add_cycle_fields(record, mg, report, o.triad_gb_per_s);
   return record;
 }
 
