@@ -8,7 +8,8 @@ packages=(
   libeigen3-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libsuitesparse-dev libhypre-dev
-  python3 ccache
+  python3 python3-dev ccache zlib1g-dev
+  pybind11-dev python3-numpy python3-pytest python3-matplotlib  # Python module, its tests, plots
   tetgen  # executable only (AGPL, never linked): TetMultigrid.RateOnTetGenMeshesOfSeveralSizes
   "$@"
 )
