@@ -182,7 +182,7 @@ void expect_schedule_holds(const Level<Dim, float>& level,
       const Block<Dim>& block = level.blocks.colors[c][b];
       EXPECT_TRUE(std::is_sorted(schedule[c][b].begin(), schedule[c][b].end()));
       for (std::uint32_t m : schedule[c][b]) {
-        const IVec<Dim> s = level.lattice.coords(level.band_u.target_index[m]);
+        const IVec<Dim> s = level.lattice.coords(level.band_kernel.target[m]);
         for (int a = 0; a < Dim; ++a) {
           EXPECT_GE(s[a], block.lo[a]) << "row " << m;
           EXPECT_LT(s[a], block.hi[a]) << "row " << m;
@@ -215,7 +215,7 @@ template <int Dim>
 void expect_runs_equal_steps(const ElasticityProblem<Dim>& problem, double min_run_share) {
   const Multigrid<Dim, double> mg(problem);
   auto level = mg.finest();
-  ASSERT_TRUE(level.band_runs.valid_for(level.band_u.rows()));
+  ASSERT_TRUE(level.band_runs.valid_for(level.band_kernel.rows()));
   const auto& runs = level.band_runs;
   EXPECT_GE(static_cast<double>(runs.row_relaxations_in_runs),
             min_run_share * static_cast<double>(runs.row_relaxations));

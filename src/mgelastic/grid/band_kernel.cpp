@@ -2,6 +2,7 @@
 
 #include <cstring>
 #include <string>
+#include <type_traits>
 #include <unordered_map>
 
 #include "mgelastic/core/bytes.hpp"
@@ -10,8 +11,9 @@
 namespace mgelastic::grid {
 template <typename Scalar>
 std::size_t BandKernel<Scalar>::bytes() const {
-  return vector_bytes(pattern) + vector_bytes(target) + vector_bytes(field) + vector_bytes(rhs) +
-         vector_bytes(start) + vector_bytes(schur_diagonal) + vector_bytes(pressure_offset) +
+  return vector_bytes(pattern) + vector_bytes(target) + vector_bytes(field) +
+         vector_bytes(constant) + vector_bytes(rhs) + vector_bytes(start) +
+         vector_bytes(schur_diagonal) + vector_bytes(pressure_offset) +
          vector_bytes(pressure_factor) + vector_bytes(pressure_count) + vector_bytes(entry_field) +
          vector_bytes(entry_offset) + vector_bytes(entry_value);
 }
@@ -23,6 +25,7 @@ void build_band_kernel(Level<Dim, Scalar>& level) {
   kernel.pattern.reserve(rows.rows());
   kernel.target = rows.target_index;
   kernel.field = rows.target_field;
+  kernel.constant = rows.constant;
   kernel.rhs.assign(rows.rows(), Scalar(0));
   // Patterns are identified by their exact bytes, so a shared pattern is bit-identical to
   // every row that uses it.
@@ -68,11 +71,23 @@ void build_band_kernel(Level<Dim, Scalar>& level) {
   level.band_kernel = std::move(kernel);
 }
 
+template <int Dim, typename Scalar>
+void drop_band_csr(Level<Dim, Scalar>& level) {
+  // Assigning a fresh object frees the storage (`v = {}` would keep a vector's capacity).
+  const auto release = [](auto&... v) { ((v = std::remove_cvref_t<decltype(v)>()), ...); };
+  release(level.band_u, level.band_u_schur_diagonal, level.band_u_pressure,
+          level.band_u_pressure_factor);
+}
+
 template struct BandKernel<float>;
 template struct BandKernel<double>;
 template void build_band_kernel<2, float>(Level<2, float>&);
 template void build_band_kernel<2, double>(Level<2, double>&);
 template void build_band_kernel<3, float>(Level<3, float>&);
 template void build_band_kernel<3, double>(Level<3, double>&);
+template void drop_band_csr<2, float>(Level<2, float>&);
+template void drop_band_csr<2, double>(Level<2, double>&);
+template void drop_band_csr<3, float>(Level<3, float>&);
+template void drop_band_csr<3, double>(Level<3, double>&);
 
 }  // namespace mgelastic::grid

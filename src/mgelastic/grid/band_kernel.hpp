@@ -9,8 +9,12 @@
 // values equal those of Level::band_u, so sums round exactly as with the CSR rows.
 //
 // Derived data: build_band_kernel() must run again after band_u, band_u_schur_diagonal or the
-// pressure factors change (build_level calls it).
+// pressure factors change (build_level calls it). Once built, the kernel is the band's only
+// form a solve needs (sweeps, residuals, Fig. 8 rows): drop_band_csr() frees band_u's CSR rows,
+// which hold ~20 (field, index, value) entries per row, 6-7x the kernel's bytes (Multigrid does,
+// on every level; levels built directly by build_level keep both forms).
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -25,6 +29,7 @@ struct BandKernel {
   std::vector<std::uint32_t> pattern;  // pattern id
   std::vector<std::uint32_t> target;   // flat index of the row's own variable
   std::vector<std::uint8_t> field;     // its field
+  std::vector<Scalar> constant;        // boundary stresses moved to the right-hand side
   std::vector<Scalar> rhs;             // b - constant, refreshed by each band_gauss_seidel call
   // Per pattern: entries [start, start + 1), Schur diagonal, up to two eliminated pressures
   // at cell offsets from the target (factor 0 and offset 0 when absent).
@@ -41,9 +46,29 @@ struct BandKernel {
   std::size_t rows() const { return pattern.size(); }
   std::size_t patterns() const { return schur_diagonal.size(); }
   std::size_t bytes() const;
+
+  // Row m's global variable index (Level::global) on a lattice of `size` points.
+  std::uint32_t global_target(std::size_t m, std::size_t size) const {
+    return static_cast<std::uint32_t>(field[m] * size + target[m]);
+  }
+  // Row value sum_e value_e x[field_e][target + offset_e] (the entries' order: the CSR sum).
+  template <typename X>
+  Scalar row_sum(const X& x, std::size_t m) const {
+    const std::uint32_t p = pattern[m];
+    const std::ptrdiff_t self = target[m];
+    Scalar sum = 0;
+    for (std::uint32_t e = start[p]; e < start[p + 1]; ++e)
+      sum += entry_value[e] * x[entry_field[e]][self + entry_offset[e]];
+    return sum;
+  }
 };
 
 template <int Dim, typename Scalar>
 void build_band_kernel(Level<Dim, Scalar>& level);
+
+// Frees band_u's CSR rows, Schur diagonals and pressure factors (all held by the kernel). Only
+// after everything built from them (blocks, schedules, runs) exists.
+template <int Dim, typename Scalar>
+void drop_band_csr(Level<Dim, Scalar>& level);
 
 }  // namespace mgelastic::grid

@@ -206,7 +206,7 @@ void build_band_runs(Level<Dim, Scalar>& level) {
       add_items(block_steps(level, work.cell_blocks, work.point_rows), runs.schedule[c][w]);
     }
   }
-  runs.band_rows = level.band_u.rows();
+  runs.band_rows = level.band_kernel.rows();
   level.band_runs = std::move(runs);
 }
 

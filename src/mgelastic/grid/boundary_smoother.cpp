@@ -17,6 +17,21 @@ Scalar row_rhs(const Level<Dim, Scalar>& level, const SparseRows<Scalar>& rows, 
   return level.b[rows.target_field[m]][rows.target_index[m]] - rows.constant[m];
 }
 
+// The same for band momentum row m, from the compact rows (band_u's CSR may be dropped).
+template <int Dim, typename Scalar>
+Scalar band_rhs(const Level<Dim, Scalar>& level, std::size_t m) {
+  const BandKernel<Scalar>& kernel = level.band_kernel;
+  return level.b[kernel.field[m]][kernel.target[m]] - kernel.constant[m];
+}
+
+// The kernel is derived from band_u: rebuilt when band_u changed (tests edit levels), never when
+// band_u's CSR was dropped (drop_band_csr).
+template <int Dim, typename Scalar>
+void refresh_band_kernel(Level<Dim, Scalar>& level) {
+  if (level.band_u.rows() != 0 && level.band_kernel.rows() != level.band_u.rows())
+    build_band_kernel(level);
+}
+
 template <int Dim, typename Scalar>
 Scalar& row_variable(Level<Dim, Scalar>& level, const SparseRows<Scalar>& rows, std::size_t m) {
   return level.x[rows.target_field[m]][rows.target_index[m]];
@@ -35,14 +50,7 @@ struct BandSweep {
     for (int f = 0; f <= Dim; ++f) x[f] = level.x[f].data();
   }
 
-  Scalar residual(std::uint32_t m) const {
-    const std::uint32_t pattern = kernel.pattern[m];
-    const std::ptrdiff_t self = kernel.target[m];
-    Scalar sum = 0;
-    for (std::uint32_t e = kernel.start[pattern]; e < kernel.start[pattern + 1]; ++e)
-      sum += kernel.entry_value[e] * x[kernel.entry_field[e]][self + kernel.entry_offset[e]];
-    return kernel.rhs[m] - sum;
-  }
+  Scalar residual(std::uint32_t m) const { return kernel.rhs[m] - kernel.row_sum(x, m); }
 
   // Moves the row's variable and keeps its eliminated pressures exact.
   void move(std::uint32_t m, Scalar delta) const {
@@ -106,15 +114,14 @@ void relax_items(const Level<Dim, Scalar>& level, const BandSweep<Dim, Scalar>& 
 // kernel.rhs[m] = b - constant of row m (b is fixed during the sweeps).
 template <int Dim, typename Scalar>
 void refresh_band_rhs(Level<Dim, Scalar>& level, const std::vector<std::uint32_t>* subset) {
-  const auto& rows = level.band_u;
   auto& rhs = level.band_kernel.rhs;
   if (subset) {
-    for (std::uint32_t m : *subset) rhs[m] = row_rhs(level, rows, m);
+    for (std::uint32_t m : *subset) rhs[m] = band_rhs(level, m);
     return;
   }
-  const auto count = static_cast<std::ptrdiff_t>(rows.rows());
+  const auto count = static_cast<std::ptrdiff_t>(level.band_kernel.rows());
 #pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t m = 0; m < count; ++m) rhs[m] = row_rhs(level, rows, m);
+  for (std::ptrdiff_t m = 0; m < count; ++m) rhs[m] = band_rhs(level, m);
 }
 
 }  // namespace
@@ -134,14 +141,14 @@ template <int Dim, typename Scalar>
 void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps,
                        const std::vector<std::uint32_t>* subset) {
   update_band_pressures(level);
-  if (level.band_kernel.rows() != level.band_u.rows()) build_band_kernel(level);
+  refresh_band_kernel(level);
   refresh_band_rhs(level, subset);
   const BandSweep<Dim, Scalar> band(level);
   const BandRuns<Dim, Scalar>& runs = level.band_runs;
   for (int sweep = 0; sweep < sweeps; ++sweep) {
     if (subset) {
       for (std::uint32_t m : *subset) band.relax_row(m);
-    } else if (runs.valid_for(level.band_u.rows())) {
+    } else if (runs.valid_for(level.band_kernel.rows())) {
       relax_items(level, band, runs.schedule);
     } else {
       // Colored blocks: the blocks of one color touch disjoint variables.
@@ -161,7 +168,7 @@ template <int Dim, typename Scalar>
 void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps,
                        const typename Level<Dim, Scalar>::RowSchedule& schedule) {
   update_band_pressures(level);
-  if (level.band_kernel.rows() != level.band_u.rows()) build_band_kernel(level);
+  refresh_band_kernel(level);
   const BandSweep<Dim, Scalar> band(level);
   // Rows of one color's blocks touch disjoint variables (block_partition.hpp).
   auto for_each_block = [&](auto&& relax_rows) {
@@ -173,7 +180,7 @@ void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps,
   };
   auto& rhs = level.band_kernel.rhs;
   for_each_block([&](const std::vector<std::uint32_t>& rows) {
-    for (std::uint32_t m : rows) rhs[m] = row_rhs(level, level.band_u, m);
+    for (std::uint32_t m : rows) rhs[m] = band_rhs(level, m);
   });
   for (int sweep = 0; sweep < sweeps; ++sweep)
     for_each_block([&](const std::vector<std::uint32_t>& rows) {

@@ -172,7 +172,7 @@ template <int Dim>
 void CorotatedBandSmoother<Dim>::build_schedule(const Level<Dim, double>& level,
                                                 const CorotatedRows& rows) {
   const auto mapped = [&](std::uint32_t band_u_row) -> std::int32_t {
-    const std::int32_t m = rows.row_of[level.band_u.target[band_u_row]];
+    const std::int32_t m = rows.row_of[level.band_kernel.global_target(band_u_row, level.size())];
     return m >= 0 && m_in_band[m] ? m : -1;
   };
   std::vector<std::uint8_t> scheduled(rows.rows(), 0);

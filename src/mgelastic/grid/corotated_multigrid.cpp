@@ -186,7 +186,7 @@ void CorotatedMultigrid<Dim>::build_level_system(int l, CorotatedRows rows_of_le
   std::vector<std::uint8_t> marked(m_rows[l].rows(), 0);
   for (const auto* set : {&level.pre_restriction_rows, &level.post_prolongation_rows})
     for (std::uint32_t m : *set) {
-      const std::int32_t row = m_rows[l].row_of[level.band_u.target[m]];
+      const std::int32_t row = m_rows[l].row_of[level.band_kernel.global_target(m, level.size())];
       if (row >= 0) marked[row] = 1;
     }
   for (std::uint32_t b = 0; b + 1 < blocks->start.size(); ++b)

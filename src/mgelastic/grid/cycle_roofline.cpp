@@ -56,10 +56,10 @@ template <int Dim, typename Scalar>
 double band_call_bytes(const Level<Dim, Scalar>& level, int sweeps,
                        const std::vector<std::uint32_t>* subset) {
   constexpr double S = sizeof(Scalar);
-  const std::size_t rows = subset ? subset->size() : level.band_u.rows();
+  const std::size_t rows = subset ? subset->size() : level.band_kernel.rows();
   // The exact pressure update: band_p rows with their inverse, p written.
   const double pressures = sparse_rows_bytes(level.band_p, 1) + bytes_of(level.band_p_inverse);
-  const double refresh = static_cast<double>(rows) * (kField + kIndex + 3 * S);
+  const double refresh = static_cast<double>(rows) * (kField + kIndex + 3 * S);  // b, constant
   return pressures + refresh + sweeps * band_row_relaxations(level, rows, subset);
 }
 
@@ -107,7 +107,11 @@ template <int Dim, typename Scalar>
 double residual_bytes(const Level<Dim, Scalar>& level) {
   constexpr double S = sizeof(Scalar), F = Dim + 1;
   const double stencil = static_cast<double>(level.size()) * F * (3 * S + kField);
-  const double band = sparse_rows_bytes(level.band_u, 1) + sparse_rows_bytes(level.band_p, 3);
+  // Band momentum rows from the compact form: row (pattern, target, field, constant), b read,
+  // r written, the row's own neighbourhood of x (~ one cache line per row).
+  const double band_u =
+      static_cast<double>(level.band_kernel.rows()) * (2 * kIndex + kField + 3 * S);
+  const double band = band_u + sparse_rows_bytes(level.band_p, 3);
   return stencil + band;
 }
 

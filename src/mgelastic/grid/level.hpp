@@ -10,11 +10,13 @@
 // Memory (byte_breakdown(); docs/performance.md "Memory per unknown"). Per lattice point and
 // field: x, b, r (3 Scalars), kind and relaxation (1 byte each); per cell its type. Per band
 // row: target (global index and (field, index)), start, constant, Schur diagonal, eliminated
-// pressures. Per band entry: (field, index, value), the only copy of its column (5 bytes of
-// index + one Scalar). On top, for the sweeps: compact patterns (band_kernel), cell blocks
-// with their inverses, runs and colored schedules. Band arrays are trimmed to their size after
-// the build. The double-precision solution level of a mixed-precision solve keeps only what
-// residuals, corrections and traction back-substitution read (Multigrid drops the rest).
+// pressures. Per band entry: (field, index, value) (5 bytes of index + one Scalar). These CSR
+// rows are the build's form: the compact patterns (band_kernel) hold the same rows at ~1/7 of
+// the bytes, and Multigrid drops the CSR once blocks, runs and schedules are built from it
+// (drop_band_csr). On top, for the sweeps: cell blocks with their inverses, runs and colored
+// schedules. Band arrays are trimmed to their size after the build. The double-precision
+// solution level of a mixed-precision solve keeps only what residuals, corrections and traction
+// back-substitution read (Multigrid drops the rest).
 #include <array>
 #include <cstdint>
 #include <functional>

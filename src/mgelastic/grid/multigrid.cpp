@@ -61,19 +61,19 @@ bool may_coarsen(const Lattice<Dim>& lattice, const std::vector<CellType>& cells
 }
 
 // The double-precision solution level of a mixed-precision solve is never smoothed: it holds
-// x and b, evaluates residuals (band rows), takes corrections and back-substitutes traction
-// values. What only the band sweeps read (Schur diagonals and eliminated-pressure factors, the
-// compact kernel built from them, runs, blocks and their inverses, colored schedules, Fig. 8
-// row sets) would double the band's memory, so it is dropped after the build (the block
-// partition itself is a few hundred bytes).
+// x and b, evaluates residuals (compact band rows), takes corrections and back-substitutes
+// traction values. What only the band sweeps read (the sweeps' right-hand sides, runs, blocks
+// and their inverses, colored schedules, Fig. 8 row sets) would double the band's memory, so it
+// is dropped after the build (the block partition itself is a few hundred bytes).
 template <int Dim>
 void release_sweep_data(Level<Dim, double>& level) {
   // Assigning a fresh object frees the storage (`v = {}` would keep a vector's capacity).
   const auto release = [](auto&... v) { ((v = std::remove_cvref_t<decltype(v)>()), ...); };
-  release(level.band_u_schur_diagonal, level.band_u_pressure, level.band_u_pressure_factor,
-          level.pre_restriction_rows, level.post_prolongation_rows, level.band_blocks,
-          level.band_block_inverse, level.band_point_rows, level.band_kernel, level.band_schedule,
-          level.pre_restriction_schedule, level.post_prolongation_schedule, level.band_runs);
+  release(level.pre_restriction_rows, level.post_prolongation_rows, level.band_blocks,
+          level.band_block_inverse, level.band_point_rows, level.band_kernel.rhs,
+          level.band_schedule, level.pre_restriction_schedule, level.post_prolongation_schedule,
+          level.band_runs);
+  drop_band_csr(level);
 }
 
 // Mixed precision: the float level solves L e = r with a zero initial correction. Elementwise,
@@ -154,6 +154,7 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
     build_levels(problem, lattices, cells, weights);
     try {
       m_coarse = std::make_unique<CoarseSolver<Dim, Scalar>>(m_levels.back());
+      for (Level<Dim, Scalar>& level : m_levels) drop_band_csr(level);
       break;
     } catch (const SingularCoarseLevel&) {
       if (lattices.size() == 1) throw;

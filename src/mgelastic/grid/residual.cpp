@@ -83,13 +83,14 @@ void band_residual(Level<Dim, Scalar>& level) {
       sum += rows.value[e] * level.x[rows.column_field[e]][rows.column_index[e]];
     return sum;
   };
-  const auto& u_rows = level.band_u;
-  const auto u_count = static_cast<std::ptrdiff_t>(u_rows.rows());
+  // Momentum rows from their compact form (band_kernel.hpp; the CSR rows may be dropped).
+  const BandKernel<Scalar>& kernel = level.band_kernel;
+  const auto u_count = static_cast<std::ptrdiff_t>(kernel.rows());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t m = 0; m < u_count; ++m) {
-    const int f = u_rows.target_field[m];
-    const std::uint32_t k = u_rows.target_index[m];
-    level.r[f][k] = level.b[f][k] - u_rows.constant[m] - row_value(u_rows, m);
+    const int f = kernel.field[m];
+    const std::uint32_t k = kernel.target[m];
+    level.r[f][k] = level.b[f][k] - kernel.constant[m] - kernel.row_sum(level.x, m);
   }
   if (level.lambda <= 0) return;
   const auto& p_rows = level.band_p;
