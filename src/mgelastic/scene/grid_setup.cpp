@@ -8,6 +8,7 @@
 #include "mgelastic/scene/build_shape.hpp"
 #include "mgelastic/scene/grid_memory.hpp"
 #include "mgelastic/scene/render_surface.hpp"
+#include "mgelastic/scene/surface_selection.hpp"
 
 namespace mgelastic::scene {
 
@@ -17,46 +18,42 @@ bool GridSetup::animated() const {
   return false;
 }
 
+namespace {
+
+std::size_t deepest_region(const std::vector<GridSetup::Region>& regions, const grid::Vec<3>& x) {
+  std::size_t deepest = 0;
+  double depth = std::numeric_limits<double>::infinity();
+  for (std::size_t r = 0; r < regions.size(); ++r) {
+    const double d = regions[r].shape->signed_distance(x);
+    if (d < depth) depth = d, deepest = r;
+  }
+  return deepest;
+}
+
+}  // namespace
+
+int constraint_at(const GridSetup& setup, const grid::Vec<3>& x) {
+  return static_cast<int>(deepest_region(setup.regions, x));
+}
+
 std::function<grid::Vec<3>(const grid::Vec<3>&)> dirichlet_displacement(const GridSetup& setup,
                                                                         double time) {
   if (!setup.animated()) return {};
   return [regions = setup.regions, time](const grid::Vec<3>& x) -> grid::Vec<3> {
-    std::size_t deepest = 0;
-    double depth = std::numeric_limits<double>::infinity();
-    for (std::size_t r = 0; r < regions.size(); ++r) {
-      const double d = regions[r].shape->signed_distance(x);
-      if (d < depth) depth = d, deepest = r;
-    }
-    return regions[deepest].motion.displacement(x, time);
+    return regions[deepest_region(regions, x)].motion.displacement(x, time);
   };
 }
 
 namespace {
 
-// Each rest-surface triangle whose centroid lies in a traction region carries traction * area
+// Each selected rest-surface triangle carries its share of a traction, pressure or total force
 // at its centroid (one-point quadrature; triangles are a fraction of a cell).
-void add_tractions(const Scene& scene, GridSetup& setup) {
+void add_surface_loads(const Scene& scene, GridSetup& setup) {
   std::vector<grid::SurfaceForce<3>> forces;
-  const auto& V = setup.surface.vertices;
-  const auto& F = setup.surface.triangles;
-  for (std::size_t t = 0; t < scene.tractions.size(); ++t) {
-    const std::string at = "/loads/tractions/" + std::to_string(t) + "/region";
-    const auto region = build_shape(scene.tractions[t].region, scene.directory, scene.file, at);
-    std::size_t selected = 0;
-    for (Eigen::Index f = 0; f < F.rows(); ++f) {
-      const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
-      const Eigen::Vector3d centroid = (a + b + c) / 3.0;
-      const Eigen::Vector3d area_normal = 0.5 * (b - a).cross(c - a);
-      const double area = area_normal.norm();
-      if (area == 0 || !region->contains(centroid)) continue;
-      forces.push_back({centroid, area * scene.tractions[t].traction, area_normal / area});
-      ++selected;
-    }
-    if (selected == 0)
-      throw Error("the region contains no part of the body's surface",
-                  ErrorContext{.file = scene.file, .pointer = at});
-    setup.traction_triangles += selected;
-  }
+  for (const TriangleForce& f :
+       surface_load_forces(scene, setup.surface, "part of the body's surface"))
+    forces.push_back({f.centroid, f.force, f.normal});
+  setup.traction_triangles = forces.size();
   if (!forces.empty()) grid::apply_surface_forces(setup.problem, forces);
 }
 
@@ -92,13 +89,19 @@ GridSetup build_grid_setup(const Scene& scene) {
     setup.regions.push_back({region, scene.constraints[c].motion});
     const auto mask = geometry::overlapping_cells(v, *region);
     std::size_t selected = 0;
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
     for (int k = 0; k < v.dims[2]; ++k)
       for (int j = 0; j < v.dims[1]; ++j)
         for (int i = 0; i < v.dims[0]; ++i) {
           if (!mask[v.index(i, j, k)]) continue;
-          selected += v.occupied[v.index(i, j, k)];
-          p.cells[p.lattice.index(grid::IVec<3>(i + 1, j + 1, k + 1))] = grid::CellType::DIRICHLET;
+          const std::ptrdiff_t cell = p.lattice.index(grid::IVec<3>(i + 1, j + 1, k + 1));
+          if (v.occupied[v.index(i, j, k)]) {
+            ++selected;
+            centroid += p.lattice.cell_center(cell);
+          }
+          p.cells[cell] = grid::CellType::DIRICHLET;
         }
+    setup.constraint_centroids.push_back(selected ? centroid / double(selected) : centroid);
     if (selected == 0)
       throw Error("the region selects no cell of the body at this resolution",
                   ErrorContext{.file = scene.file, .pointer = at});
@@ -112,7 +115,7 @@ GridSetup build_grid_setup(const Scene& scene) {
                 ErrorContext{.file = scene.file, .pointer = "/grid"});
   p.dirichlet_displacement = dirichlet_displacement(setup, 0.0);
   setup.surface = rest_surface(scene, *setup.body, v.cell_size);
-  add_tractions(scene, setup);
+  add_surface_loads(scene, setup);
   const Eigen::Vector3d load = scene.density * scene.gravity;
   p.body_force = [load](const grid::Vec<3>&) { return grid::Vec<3>(load); };
   return setup;

@@ -23,6 +23,8 @@ struct GridSetup {
     KeyframedMotion motion;
   };
   std::vector<Region> regions;
+  // Per constraint: centroid of its Dirichlet body cells (the moment point of its reaction).
+  std::vector<Eigen::Vector3d> constraint_centroids;
   geometry::TriangleMesh surface;  // rest surface the lattice carries (render_surface.hpp)
   std::size_t traction_triangles = 0;
   bool animated() const;  // some region is keyframed
@@ -30,6 +32,10 @@ struct GridSetup {
 
 // The problem's dirichlet_displacement is that of time 0.
 GridSetup build_grid_setup(const Scene& scene);
+
+// Index into Scene::constraints of the region a Dirichlet variable at x follows (the one it lies
+// deepest in).
+int constraint_at(const GridSetup& setup, const grid::Vec<3>& x);
 
 // Prescribed displacement of the Dirichlet variables at `time`.
 std::function<grid::Vec<3>(const grid::Vec<3>&)> dirichlet_displacement(const GridSetup& setup,

@@ -80,8 +80,15 @@ Scene parse_scene(const nlohmann::json& document, const std::string& file,
   for (std::size_t c = 0; c < d["constraints"].size(); ++c)
     s.constraints.push_back(parse_constraint(d["constraints"][c], file, c));
   s.gravity = vec3(d["loads"]["gravity"]);
+  const auto selection = [](const nlohmann::json& load) {
+    return Scene::SurfaceSelection{load["region"], vec3(load["normal"]),
+                                   load["normal_tolerance_degrees"]};
+  };
   for (const auto& t : d["loads"]["tractions"])
-    s.tractions.push_back({t["region"], vec3(t["traction"])});
+    s.tractions.push_back({selection(t), vec3(t["traction"])});
+  for (const auto& p : d["loads"]["pressures"])
+    s.pressures.push_back({selection(p), p["pressure"]});
+  for (const auto& f : d["loads"]["forces"]) s.forces.push_back({selection(f), vec3(f["force"])});
   const nlohmann::json& t = d["time"];
   s.time = {t["dt"],         t["frames"],  t["substeps"],    t["quasistatic"],
             t["integrator"], t["damping"], t["mass_damping"]};

@@ -35,11 +35,28 @@ struct Scene {
   };
   std::vector<Constraint> constraints;
   Eigen::Vector3d gravity = Eigen::Vector3d(0, -9.81, 0);
-  struct Traction {
+  // Part of the body's surface a surface load acts on (surface_selection.hpp): centroid inside
+  // `region` and, for a non-zero `normal`, outward normal within `tolerance_degrees` of it.
+  struct SurfaceSelection {
     nlohmann::json region;
-    Eigen::Vector3d traction;
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // zero: any direction
+    double tolerance_degrees = 30.0;
+  };
+  struct Traction {
+    SurfaceSelection surface;
+    Eigen::Vector3d traction;  // Pa
   };
   std::vector<Traction> tractions;
+  struct Pressure {
+    SurfaceSelection surface;
+    double pressure = 0.0;  // Pa, along the inward (rest) normal
+  };
+  std::vector<Pressure> pressures;
+  struct TotalForce {
+    SurfaceSelection surface;
+    Eigen::Vector3d force;  // N, spread over the selected surface by area
+  };
+  std::vector<TotalForce> forces;
   struct Time {
     double dt = 1.0 / 30.0;
     int frames = 1, substeps = 1;

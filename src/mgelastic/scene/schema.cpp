@@ -122,15 +122,45 @@ Field build_schema() {
               "fixed", {"fixed", "keyframed"}),
        vector3("pivot", "Center of the keyframed rotations", "m", nlohmann::json::array({0, 0, 0})),
        array("keyframes", "Poses of a keyframed region (at least one)", keyframe)});
-  Field traction =
-      object("", "A traction on the part of the body's surface inside a region (Sec. 9.2)",
-             {shape("region", "Surface inside this shape carries the traction", true),
-              vector3("traction", "Force per area on the surface", "Pa",
-                      nlohmann::json::array({0, 0, 0}))});
+  // Every surface load selects its triangles the same way (surface_selection.hpp).
+  const auto surface_load = [](std::string description, Field value) {
+    return object(
+        "", std::move(description),
+        {shape("region",
+               "Surface triangles (grid engine: of the embedded surface; tet engine: boundary "
+               "faces) whose centroid lies in this shape are loaded",
+               true),
+         vector3("normal",
+                 "Only triangles whose outward normal lies within `normal_tolerance_degrees` of "
+                 "this direction (e.g. [1, 0, 0] for the face x = max); [0, 0, 0] = any",
+                 "", nlohmann::json::array({0, 0, 0})),
+         number("normal_tolerance_degrees", "Cone half-angle of the `normal` selection", "deg",
+                30.0, 0.0, false, 180.0),
+         std::move(value)});
+  };
+  Field traction = surface_load(
+      "A traction on the part of the body's surface inside a region (Sec. 9.2)",
+      vector3("traction", "Force per area on the surface", "Pa", nlohmann::json::array({0, 0, 0})));
+  Field pressure = surface_load(
+      "A pressure on the selected surface, along its inward normal. The normal is the rest "
+      "surface's: co-rotated and large-deformation runs keep the load's direction (dead load)",
+      [] {
+        Field f = number("pressure", "Pressure (negative: suction)", "Pa", nullptr);
+        f.required = true;
+        return f;
+      }());
+  Field force = surface_load(
+      "A total force spread over the selected surface in proportion to area (a dead load)", [] {
+        Field f = vector3("force", "Total force on the selected surface", "N", nullptr);
+        f.required = true;
+        return f;
+      }());
   Field loads = object("loads", "External loads",
                        {vector3("gravity", "Gravitational acceleration", "m/s^2",
                                 nlohmann::json::array({0, -9.81, 0})),
-                        array("tractions", "Surface tractions", traction)});
+                        array("tractions", "Surface tractions", traction),
+                        array("pressures", "Surface pressures", pressure),
+                        array("forces", "Total forces on surfaces", force)});
   Field solver = object(
       "solver", "Multigrid solver",
       {number("tolerance", "Relative residual to reach", "", 1e-6, 0.0, true, 1.0, true),

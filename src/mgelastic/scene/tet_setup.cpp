@@ -16,6 +16,7 @@
 #include "mgelastic/geometry/tet_mesh_readers.hpp"
 #include "mgelastic/scene/build_shape.hpp"
 #include "mgelastic/scene/render_surface.hpp"
+#include "mgelastic/scene/surface_selection.hpp"
 
 namespace mgelastic::scene {
 namespace {
@@ -163,28 +164,21 @@ void assign_region_materials(const Scene& scene, const geometry::TetMesh& mesh,
   }
 }
 
-Eigen::VectorXd traction_forces(const Scene& scene, const geometry::TetMesh& mesh) {
-  if (scene.tractions.empty()) return {};
+// Surface loads lumped to the vertices of the tet mesh's boundary faces: a third of each face's
+// force to each corner.
+Eigen::VectorXd surface_forces(const Scene& scene, const geometry::TetMesh& mesh) {
+  if (scene.tractions.empty() && scene.pressures.empty() && scene.forces.empty()) return {};
   const geometry::TetMeshBoundary boundary = geometry::tet_mesh_boundary(mesh);
+  geometry::TriangleMesh faces;
+  faces.triangles = boundary.triangles;
+  faces.vertices.resize(static_cast<Eigen::Index>(boundary.mesh_vertex.size()), 3);
+  for (std::size_t v = 0; v < boundary.mesh_vertex.size(); ++v)
+    faces.vertices.row(static_cast<Eigen::Index>(v)) = mesh.vertices.row(boundary.mesh_vertex[v]);
   Eigen::VectorXd forces = Eigen::VectorXd::Zero(3 * mesh.vertex_count());
-  for (std::size_t t = 0; t < scene.tractions.size(); ++t) {
-    const std::string at = "/loads/tractions/" + std::to_string(t) + "/region";
-    const geometry::ShapePtr region =
-        build_shape(scene.tractions[t].region, scene.directory, scene.file, at);
-    int selected = 0;
-    for (Eigen::Index f = 0; f < boundary.triangles.rows(); ++f) {
-      std::array<int, 3> v;
-      for (int k = 0; k < 3; ++k) v[k] = boundary.mesh_vertex[boundary.triangles(f, k)];
-      const Eigen::Vector3d a = mesh.vertices.row(v[0]), b = mesh.vertices.row(v[1]),
-                            c = mesh.vertices.row(v[2]);
-      if (!region->contains((a + b + c) / 3.0)) continue;
-      const double area = 0.5 * (b - a).cross(c - a).norm();
-      for (int k = 0; k < 3; ++k)
-        forces.segment<3>(3 * v[k]) += area / 3.0 * scene.tractions[t].traction;
-      ++selected;
-    }
-    if (selected == 0) fail(scene, at, "the region contains no boundary face of the body");
-  }
+  for (const TriangleForce& f : surface_load_forces(scene, faces, "boundary face of the body"))
+    for (int k = 0; k < 3; ++k)
+      forces.segment<3>(3 * boundary.mesh_vertex[boundary.triangles(f.triangle, k)]) +=
+          f.force / 3.0;
   return forces;
 }
 
@@ -203,7 +197,7 @@ TetSetup build_tet_setup(const Scene& scene) {
   setup.materials = tet::ElementMaterials::uniform(
       mesh.tet_count(), {scene.youngs_modulus, scene.poisson_ratio, scene.density});
   assign_region_materials(scene, mesh, setup.materials);
-  setup.surface_forces = traction_forces(scene, mesh);
+  setup.surface_forces = surface_forces(scene, mesh);
 
   // Dirichlet vertices: rest positions inside a region; the first region listed claims a vertex.
   setup.vertex_constraint.assign(mesh.vertex_count(), -1);
@@ -230,6 +224,18 @@ TetSetup build_tet_setup(const Scene& scene) {
   }
   for (int v = 0; v < mesh.vertex_count(); ++v)
     if (setup.vertex_constraint[v] >= 0) setup.dirichlet_vertices.push_back(v);
+  {
+    std::vector<int> count(scene.constraints.size(), 0);
+    setup.constraint_centroids.assign(scene.constraints.size(), Eigen::Vector3d::Zero());
+    for (int v = 0; v < mesh.vertex_count(); ++v) {
+      const int c = setup.vertex_constraint[v];
+      if (c < 0) continue;
+      setup.constraint_centroids[c] += mesh.vertices.row(v).transpose();
+      ++count[c];
+    }
+    for (std::size_t c = 0; c < count.size(); ++c)
+      if (count[c] > 0) setup.constraint_centroids[c] /= count[c];
+  }
 
   // The callback owns what it reads, so it stays valid wherever the setup is moved or copied.
   const auto owner = std::make_shared<const std::vector<int>>(setup.vertex_constraint);

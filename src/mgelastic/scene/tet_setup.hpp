@@ -34,10 +34,13 @@ struct TetSetup {
   std::vector<int> dirichlet_vertices;  // sorted, each once
   // Per mesh vertex: index into Scene::constraints of the region that holds it, or -1 (free).
   std::vector<int> vertex_constraint;
+  // Per constraint: centroid of its vertices' rest positions (the moment point of its reaction).
+  std::vector<Eigen::Vector3d> constraint_centroids;
   tet::DirichletMotion motion;  // position(rest, time) of the vertex's region
   tet::CorotatedSolverSettings settings;
-  // Surface tractions lumped to vertices (3N, N): traction * area / 3 to each corner of every
-  // boundary face whose centroid lies in a traction region; empty when there are none.
+  // Surface loads (tractions, pressures, total forces; surface_selection.hpp) lumped to vertices
+  // (3N, N): a third of each selected boundary face's force to each corner; empty when there are
+  // none.
   Eigen::VectorXd surface_forces;
   tet::EmbeddedSurface surface;  // what the frames show as the deformed surface
   // Seconds to build the input surface (marching cubes or reading the file) and to embed it.

@@ -90,6 +90,10 @@ Eigen::VectorXd CorotatedSolver::gravity_forces() const {
   return f;
 }
 
+Eigen::VectorXd CorotatedSolver::unbalanced_forces() const {
+  return m_assembler.elastic_forces(m_rotations, m_x) + gravity_forces();
+}
+
 void CorotatedSolver::set_surface_forces(Eigen::VectorXd forces) {
   if (forces.size() != m_x.size() || !forces.allFinite())
     fail("must have 3 finite entries per vertex", "surface forces");

@@ -108,6 +108,11 @@ class CorotatedSolver {
   // search included); the residual is the last round's.
   const StepStats& solve_static(int max_iterations = 20, double tolerance = 1e-10);
 
+  // f_el(x) + f_ext per vertex (3N, N) with the rotations of the last update: zero on the free
+  // vertices at static equilibrium; minus it on a Dirichlet vertex is the force its constraint
+  // applies (tet/constraint_reactions.hpp).
+  Eigen::VectorXd unbalanced_forces() const;
+
   double time() const { return m_time; }
   // Sets the clock that the Dirichlet motion is evaluated at (a quasistatic sequence solves
   // equilibria at given frame times); positions and velocities are left as they are.
