@@ -70,10 +70,12 @@ Eigen::Vector3d free_load(const Level<3, double>& level) {
   for (int i = 0; i < 3; ++i)
     for (std::size_t k = 0; k < level.size(); ++k)
       if (level.kind[i][k] == VarKind::INTERIOR) load[i] -= volume * level.b[i][k];
-  const auto& rows = level.band_u;
+  // Boundary stresses moved into the band rows' constants (compact rows: the CSR form may be
+  // dropped, band_kernel.hpp).
+  const auto& rows = level.band_kernel;
   for (std::size_t m = 0; m < rows.rows(); ++m)
-    if (level.kind[rows.target_field[m]][rows.target_index[m]] == VarKind::INTERIOR)
-      load[rows.target_field[m]] += volume * rows.constant[m];
+    if (level.kind[rows.field[m]][rows.target[m]] == VarKind::INTERIOR)
+      load[rows.field[m]] += volume * rows.constant[m];
   return load;
 }
 

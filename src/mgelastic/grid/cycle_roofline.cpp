@@ -159,10 +159,13 @@ PhaseSeconds cycle_bytes(const Multigrid<Dim, Scalar>& mg) {
                                            traction_bytes(last));
   const Level<Dim, double>& solution = mg.solution_level();
   const double n = static_cast<double>(solution.size());
+  double residual_and_norm = residual_bytes(solution) + norm_bytes(solution);
   if (static_cast<const void*>(&solution) != static_cast<const void*>(&mg.finest())) {
-    bytes.refinement = n * F * (8 + 2 * S) + n * F * (kField + S + 16) + traction_bytes(solution);
+    // Zero the float correction; add it (kind, e, x read + written); the residual is written
+    // to and its norm read from the float level's b (residual_into), not a double r.
+    bytes.refinement = n * F * S + n * F * (kField + S + 16) + traction_bytes(solution);
+    residual_and_norm -= 2 * n * F * (8 - S);
   }
-  const double residual_and_norm = residual_bytes(solution) + norm_bytes(solution);
   bytes.cycle_residual = residual_and_norm;
   bytes.solve_setup = residual_and_norm + 2 * 8 * F * n;
   return bytes;

@@ -61,36 +61,45 @@ bool may_coarsen(const Lattice<Dim>& lattice, const std::vector<CellType>& cells
 }
 
 // The double-precision solution level of a mixed-precision solve is never smoothed: it holds
-// x and b, evaluates residuals (compact band rows), takes corrections and back-substitutes
-// traction values. What only the band sweeps read (the sweeps' right-hand sides, runs, blocks
-// and their inverses, colored schedules, Fig. 8 row sets) would double the band's memory, so it
-// is dropped after the build (the block partition itself is a few hundred bytes).
+// x and b, takes corrections and back-substitutes traction values; its residual goes straight
+// into the float level's right-hand side (residual_into), so it needs no r (update_residual
+// allocates one if a caller asks, e.g. the FGMRES solve). What only the band sweeps read (the
+// sweeps' right-hand sides, runs, blocks and their inverses, colored schedules, Fig. 8 row sets)
+// would double the band's memory, so it is dropped after the build (the block partition itself
+// is a few hundred bytes).
 template <int Dim>
 void release_sweep_data(Level<Dim, double>& level) {
   // Assigning a fresh object frees the storage (`v = {}` would keep a vector's capacity).
   const auto release = [](auto&... v) { ((v = std::remove_cvref_t<decltype(v)>()), ...); };
-  release(level.pre_restriction_rows, level.post_prolongation_rows, level.band_blocks,
+  release(level.r, level.pre_restriction_rows, level.post_prolongation_rows, level.band_blocks,
           level.band_block_inverse, level.band_point_rows, level.band_kernel.rhs,
           level.band_schedule, level.pre_restriction_schedule, level.post_prolongation_schedule,
           level.band_runs);
   drop_band_csr(level);
 }
 
-// Mixed precision: the float level solves L e = r with a zero initial correction. Elementwise,
-// so the static parallel loops give the same values for any thread count.
+// Mixed precision: the float level solves L e = r with a zero initial correction; r is already
+// in its b (residual_into). Elementwise, so the static parallel loops give the same values for
+// any thread count.
 template <int Dim, typename Scalar>
-void load_correction_problem(const Level<Dim, double>& solution, Level<Dim, Scalar>& fine) {
+void zero_correction(Level<Dim, Scalar>& fine) {
   const auto size = static_cast<std::ptrdiff_t>(fine.size());
   for (int f = 0; f <= Dim; ++f) {
-    const double* r = solution.r[f].data();
-    Scalar* b = fine.b[f].data();
     Scalar* x = fine.x[f].data();
 #pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t k = 0; k < size; ++k) {
-      b[k] = static_cast<Scalar>(r[k]);
-      x[k] = Scalar(0);
-    }
+    for (std::ptrdiff_t k = 0; k < size; ++k) x[k] = Scalar(0);
   }
+}
+
+// The double residual of the solution, rounded once, as the float level's right-hand side; its
+// norm (of the rounded values: relative difference <= float round-off).
+template <int Dim, typename Scalar>
+double residual_to_correction_problem(const Level<Dim, double>& solution,
+                                      Level<Dim, Scalar>& fine) {
+  std::array<Scalar*, Dim + 1> b;
+  for (int f = 0; f <= Dim; ++f) b[f] = fine.b[f].data();
+  residual_into<Dim, double, Scalar>(solution, b);
+  return residual_norm<Dim, Scalar>(b, fine.size());
 }
 
 template <int Dim, typename Scalar>
@@ -292,7 +301,7 @@ void Multigrid<Dim, Scalar>::observe(int l, CyclePhase phase) {
 template <int Dim, typename Scalar>
 double Multigrid<Dim, Scalar>::residual() {
   if (!m_solution) return compute_residual(m_levels.front());
-  const double norm = compute_residual(*m_solution);
+  const double norm = residual_to_correction_problem(*m_solution, m_levels.front());
   m_solution_residual_current = true;
   return norm;
 }
@@ -307,15 +316,15 @@ double Multigrid<Dim, Scalar>::vcycle() {
     return norm;
   }
   // Mixed precision: the float hierarchy solves L e = r for the double residual r, which the
-  // previous cycle (or residual()) left in m_solution->r unless the solution changed since.
+  // previous cycle (or residual()) left in the float level's b unless the solution changed since.
   Timer timer;
   Level<Dim, Scalar>& fine = m_levels.front();
   if (!m_solution_residual_current) {
-    compute_residual(*m_solution);
+    residual_to_correction_problem(*m_solution, fine);
     m_phases.cycle_residual += timer.seconds();
     timer.restart();
   }
-  load_correction_problem(*m_solution, fine);
+  zero_correction(fine);
   m_phases.refinement += timer.seconds();
   cycle_correction();
   timer.restart();
@@ -323,7 +332,7 @@ double Multigrid<Dim, Scalar>::vcycle() {
   back_substitute_traction(*m_solution);
   m_phases.refinement += timer.seconds();
   timer.restart();
-  const double norm = compute_residual(*m_solution);
+  const double norm = residual_to_correction_problem(*m_solution, fine);
   m_solution_residual_current = true;
   m_phases.cycle_residual += timer.seconds();
   return norm;

@@ -121,7 +121,10 @@ class Multigrid {
   void set_solution_state(const SolutionState& x);
 
   int levels() const { return static_cast<int>(m_levels.size()); }
-  Level<Dim, Scalar>& level(int l) { return m_levels[l]; }
+  Level<Dim, Scalar>& level(int l) {
+    m_solution_residual_current = false;  // the caller may change the finest level's b
+    return m_levels[l];
+  }
   const Level<Dim, Scalar>& level(int l) const { return m_levels[l]; }
   const Level<Dim, Scalar>& finest() const { return m_levels.front(); }
   // The current solution at a variable of the finest level (double in every precision).
@@ -165,9 +168,9 @@ class Multigrid {
   // correction (homogeneous boundary conditions), so float V-cycles still reach residuals far
   // below float round-off of the displacements. Null in double precision.
   std::unique_ptr<Level<Dim, double>> m_solution;
-  // m_solution->r holds the residual of m_solution's current x and b (set by vcycle() and
-  // residual(); cleared by every access that may change them, solution_level() included), so
-  // the next cycle need not recompute it.
+  // The float finest level's b holds the residual of m_solution's current x and b (set by
+  // vcycle() and residual(); cleared by every access that may change them, solution_level() and
+  // level() included), so the next cycle need not recompute it.
   bool m_solution_residual_current = false;
   std::unique_ptr<CoarseSolver<Dim, Scalar>> m_coarse;
   MultigridOptions m_options;

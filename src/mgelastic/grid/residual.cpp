@@ -24,17 +24,15 @@ constexpr std::ptrdiff_t residual_chunk = 512;
 // vectorizes the loop), then copied out with a select on the relaxation class. The chunks are
 // fixed (independent of the thread count), and each row is the same expression as the
 // point-wise residual, so r does not depend on the thread count.
-template <int Dim, typename Scalar>
-void stencil_residual(Level<Dim, Scalar>& level, const std::array<const Scalar*, Dim>& u,
+template <int Dim, typename Scalar, typename Out>
+void stencil_residual(const Level<Dim, Scalar>& level, const std::array<const Scalar*, Dim>& u,
                       const std::array<std::ptrdiff_t, Dim>& s,
-                      const StencilConstants<Dim, Scalar>& c) {
+                      const StencilConstants<Dim, Scalar>& c, const std::array<Out*, Dim + 1>& r) {
   std::array<const Relaxation*, Dim + 1> relax;
   std::array<const Scalar*, Dim + 1> b;
-  std::array<Scalar*, Dim + 1> r;
   for (int f = 0; f <= Dim; ++f) {
     relax[f] = level.relaxation[f].data();
     b[f] = level.b[f].data();
-    r[f] = level.r[f].data();
   }
   const Scalar* p = level.x[Dim].data();
   const Scalar inertia = level.inertia;
@@ -44,8 +42,8 @@ void stencil_residual(Level<Dim, Scalar>& level, const std::array<const Scalar*,
   const auto n = static_cast<std::ptrdiff_t>(level.size());
   const std::ptrdiff_t lo = std::min(s[Dim - 1], n), hi = std::max(n - s[Dim - 1], lo);
   for (int f = 0; f <= Dim; ++f) {
-    std::fill(r[f], r[f] + lo, Scalar(0));
-    std::fill(r[f] + hi, r[f] + n, Scalar(0));
+    std::fill(r[f], r[f] + lo, Out(0));
+    std::fill(r[f] + hi, r[f] + n, Out(0));
   }
   const std::ptrdiff_t chunks = (hi - lo + residual_chunk - 1) / residual_chunk;
 #pragma omp parallel for schedule(static)
@@ -63,20 +61,20 @@ void stencil_residual(Level<Dim, Scalar>& level, const std::array<const Scalar*,
     }
     for (int f = 0; f <= Dim; ++f) {
       const Relaxation* rf = relax[f] + begin;
-      Scalar* out = r[f] + begin;
+      Out* out = r[f] + begin;
       const Scalar* v = value[f];
       if (f == Dim && !has_pressure) {
-        std::fill(out, out + m, Scalar(0));
+        std::fill(out, out + m, Out(0));
         continue;
       }
       for (std::ptrdiff_t i = 0; i < m; ++i)
-        out[i] = rf[i] == Relaxation::DISTRIBUTIVE ? v[i] : Scalar(0);
+        out[i] = rf[i] == Relaxation::DISTRIBUTIVE ? static_cast<Out>(v[i]) : Out(0);
     }
   }
 }
 
-template <int Dim, typename Scalar>
-void band_residual(Level<Dim, Scalar>& level) {
+template <int Dim, typename Scalar, typename Out>
+void band_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Dim + 1>& r) {
   auto row_value = [&](const SparseRows<Scalar>& rows, std::ptrdiff_t m) {
     Scalar sum = 0;
     for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e)
@@ -90,7 +88,7 @@ void band_residual(Level<Dim, Scalar>& level) {
   for (std::ptrdiff_t m = 0; m < u_count; ++m) {
     const int f = kernel.field[m];
     const std::uint32_t k = kernel.target[m];
-    level.r[f][k] = level.b[f][k] - kernel.constant[m] - kernel.row_sum(level.x, m);
+    r[f][k] = static_cast<Out>(level.b[f][k] - kernel.constant[m] - kernel.row_sum(level.x, m));
   }
   if (level.lambda <= 0) return;
   const auto& p_rows = level.band_p;
@@ -99,15 +97,37 @@ void band_residual(Level<Dim, Scalar>& level) {
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t m = 0; m < p_count; ++m) {
     const std::uint32_t k = p_rows.target_index[m];
-    level.r[Dim][k] = level.b[Dim][k] - p_rows.constant[m] - row_value(p_rows, m) -
-                      (d0 + level.band_p_extra[m]) * level.x[Dim][k];
+    r[Dim][k] = static_cast<Out>(level.b[Dim][k] - p_rows.constant[m] - row_value(p_rows, m) -
+                                 (d0 + level.band_p_extra[m]) * level.x[Dim][k]);
   }
+}
+
+// Sums of squares over fixed chunks in parallel, added in chunk order: the same value for any
+// thread count.
+template <int Dim, typename T>
+double norm_of(const std::array<const T*, Dim + 1>& r, std::size_t size) {
+  constexpr std::ptrdiff_t chunk = 1 << 14;
+  const auto n = static_cast<std::ptrdiff_t>(size);
+  const std::ptrdiff_t chunks_per_field = (n + chunk - 1) / chunk;
+  std::vector<double> partial(static_cast<std::size_t>(chunks_per_field * (Dim + 1)));
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t q = 0; q < static_cast<std::ptrdiff_t>(partial.size()); ++q) {
+    const T* field = r[q / chunks_per_field];
+    const std::ptrdiff_t begin = (q % chunks_per_field) * chunk;
+    const std::ptrdiff_t end = std::min(begin + chunk, n);
+    double sum = 0.0;
+    for (std::ptrdiff_t k = begin; k < end; ++k) sum += static_cast<double>(field[k]) * field[k];
+    partial[q] = sum;
+  }
+  double sum = 0.0;
+  for (double value : partial) sum += value;
+  return std::sqrt(sum);
 }
 
 }  // namespace
 
-template <int Dim, typename Scalar>
-void update_residual(Level<Dim, Scalar>& level) {
+template <int Dim, typename Scalar, typename Out>
+void residual_into(const Level<Dim, Scalar>& level, const std::array<Out*, Dim + 1>& r) {
   std::array<const Scalar*, Dim> u;
   std::array<std::ptrdiff_t, Dim> s;
   for (int i = 0; i < Dim; ++i) {
@@ -116,8 +136,26 @@ void update_residual(Level<Dim, Scalar>& level) {
   }
   const Scalar inv_h = static_cast<Scalar>(1.0 / level.lattice.h);
   const StencilConstants<Dim, Scalar> c{level.mu, inv_h, inv_h * inv_h};
-  stencil_residual<Dim, Scalar>(level, u, s, c);
-  band_residual(level);
+  stencil_residual<Dim, Scalar, Out>(level, u, s, c, r);
+  band_residual<Dim, Scalar, Out>(level, r);
+}
+
+template <int Dim, typename T>
+double residual_norm(const std::array<T*, Dim + 1>& r, std::size_t size) {
+  std::array<const T*, Dim + 1> fields;
+  for (int f = 0; f <= Dim; ++f) fields[f] = r[f];
+  return norm_of<Dim, T>(fields, size);
+}
+
+template <int Dim, typename Scalar>
+void update_residual(Level<Dim, Scalar>& level) {
+  // A level may hold no r (Multigrid's double solution level): it is scratch, allocated here.
+  std::array<Scalar*, Dim + 1> r;
+  for (int f = 0; f <= Dim; ++f) {
+    if (level.r[f].size() != level.size()) level.r[f].assign(level.size(), Scalar(0));
+    r[f] = level.r[f].data();
+  }
+  residual_into<Dim, Scalar, Scalar>(level, r);
 }
 
 template <int Dim, typename Scalar>
@@ -128,30 +166,18 @@ double compute_residual(Level<Dim, Scalar>& level) {
 
 template <int Dim, typename Scalar>
 double residual_norm(const Level<Dim, Scalar>& level) {
-  // Partial sums over fixed chunks in parallel, added in chunk order: the same value for any
-  // thread count.
-  constexpr std::ptrdiff_t chunk = 1 << 14;
-  const auto n = static_cast<std::ptrdiff_t>(level.size());
-  const std::ptrdiff_t chunks_per_field = (n + chunk - 1) / chunk;
-  std::vector<double> partial(static_cast<std::size_t>(chunks_per_field * (Dim + 1)));
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t q = 0; q < static_cast<std::ptrdiff_t>(partial.size()); ++q) {
-    const Scalar* r = level.r[q / chunks_per_field].data();
-    const std::ptrdiff_t begin = (q % chunks_per_field) * chunk;
-    const std::ptrdiff_t end = std::min(begin + chunk, n);
-    double sum = 0.0;
-    for (std::ptrdiff_t k = begin; k < end; ++k) sum += static_cast<double>(r[k]) * r[k];
-    partial[q] = sum;
-  }
-  double sum = 0.0;
-  for (double value : partial) sum += value;
-  return std::sqrt(sum);
+  std::array<const Scalar*, Dim + 1> r;
+  for (int f = 0; f <= Dim; ++f) r[f] = level.r[f].data();
+  return norm_of<Dim, Scalar>(r, level.size());
 }
 
-#define MGELASTIC_INSTANTIATE(D, S)                     \
-  template void update_residual<D, S>(Level<D, S>&);    \
-  template double compute_residual<D, S>(Level<D, S>&); \
-  template double residual_norm<D, S>(const Level<D, S>&);
+#define MGELASTIC_INSTANTIATE(D, S)                                        \
+  template void update_residual<D, S>(Level<D, S>&);                       \
+  template double compute_residual<D, S>(Level<D, S>&);                    \
+  template double residual_norm<D, S>(const Level<D, S>&);                 \
+  template void residual_into<D, double, S>(const Level<D, double>&,       \
+                                            const std::array<S*, D + 1>&); \
+  template double residual_norm<D, S>(const std::array<S*, D + 1>&, std::size_t);
 MGELASTIC_INSTANTIATE(2, float)
 MGELASTIC_INSTANTIATE(2, double)
 MGELASTIC_INSTANTIATE(3, float)

@@ -8,6 +8,9 @@
 // rows mu div u + (mu^2/lambda) p = 0. At lambda = 0 the pressure is eliminated exactly (p = 0)
 // and its rows do not count.
 // Dynamics steps (Sec. 8) add -c u to every momentum row (Level::inertia).
+#include <array>
+#include <cstddef>
+
 #include "mgelastic/grid/level.hpp"
 
 namespace mgelastic::grid {
@@ -23,5 +26,15 @@ double compute_residual(Level<Dim, Scalar>& level);
 // The norm of the current level.r (as compute_residual returns it).
 template <int Dim, typename Scalar>
 double residual_norm(const Level<Dim, Scalar>& level);
+
+// The residual of a double level written into other arrays (Dim + 1 of the lattice size), e.g.
+// straight into the right-hand side of a float level (mixed-precision refinement), so the
+// double level needs no r of its own. Values equal update_residual's, rounded once to Out.
+template <int Dim, typename Scalar, typename Out>
+void residual_into(const Level<Dim, Scalar>& level, const std::array<Out*, Dim + 1>& r);
+
+// The norm above of residual arrays held outside a level.
+template <int Dim, typename T>
+double residual_norm(const std::array<T*, Dim + 1>& r, std::size_t size);
 
 }  // namespace mgelastic::grid
