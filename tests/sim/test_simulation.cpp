@@ -53,6 +53,18 @@ std::vector<double> state(const Simulation& s) {
   return {x.data(), x.data() + x.size()};
 }
 
+// The checkpoint the output observer left in `dir` is byte for byte that of `expected` with the
+// observer's series.
+void expect_checkpoint_file(const std::filesystem::path& dir, const Simulation& expected,
+                            const OutputObserver& output) {
+  std::ifstream in(checkpoint_path(dir), std::ios::binary);
+  const std::vector<char> file{std::istreambuf_iterator<char>(in), {}};
+  const std::vector<std::byte> bytes =
+      io::serialize_checkpoint(expected.checkpoint({series_array(output.series())}));
+  ASSERT_EQ(file.size(), bytes.size()) << expected.scene().file;
+  EXPECT_EQ(std::memcmp(file.data(), bytes.data(), file.size()), 0) << expected.scene().file;
+}
+
 TEST(Simulation, StepAdvancesOneFrameAtTimeKPlusOneDt) {
   Simulation s(make(bar("grid", true, "linear")));
   EXPECT_EQ(s.frame(), 0);
@@ -204,12 +216,7 @@ TEST(Simulation, OutputObserverRunMatchesSteppingByHand) {
 
     Simulation by_hand(make(document));
     for (int k = 0; k < 4; ++k) by_hand.step();
-    std::ifstream in(checkpoint_path(dir), std::ios::binary);
-    const std::vector<char> file{std::istreambuf_iterator<char>(in), {}};
-    const std::vector<std::byte> expected =
-        io::serialize_checkpoint(by_hand.checkpoint({series_array(output.series())}));
-    ASSERT_EQ(file.size(), expected.size()) << engine;
-    EXPECT_EQ(std::memcmp(file.data(), expected.data(), file.size()), 0) << engine;
+    expect_checkpoint_file(dir, by_hand, output);
     std::filesystem::remove_all(dir);
   }
 }
@@ -231,12 +238,7 @@ TEST(Simulation, ExampleScenesRunEqualsSteppingByHand) {
     Simulation by_hand(scene);
     while (by_hand.frame() < by_hand.frames()) by_hand.step();
     EXPECT_EQ(state(by_hand), state(ran)) << name;
-    std::ifstream in(checkpoint_path(dir), std::ios::binary);
-    const std::vector<char> file{std::istreambuf_iterator<char>(in), {}};
-    const std::vector<std::byte> expected =
-        io::serialize_checkpoint(by_hand.checkpoint({series_array(output.series())}));
-    ASSERT_EQ(file.size(), expected.size()) << name;
-    EXPECT_EQ(std::memcmp(file.data(), expected.data(), file.size()), 0) << name;
+    expect_checkpoint_file(dir, by_hand, output);
     std::filesystem::remove_all(dir);
   }
 }

@@ -189,14 +189,10 @@ class LinearStatic final : public HierarchySolver<Scalar> {
   grid::Multigrid<3, Scalar> m_mg;
 };
 
-template <typename Scalar>
-class LinearDynamic final : public HierarchySolver<Scalar> {
+// What both backward-Euler integrators share: the clock and the face velocities.
+template <typename Integrator, typename Scalar>
+class Dynamic : public HierarchySolver<Scalar> {
  public:
-  LinearDynamic(const scene::GridSetup& setup, const scene::Scene& s)
-      : m_sim(setup.problem, time_step_options(s), multigrid_options(s)) {}
-  StepStats solve(double, const VectorField& dirichlet) override {
-    return linear_stats(m_sim.step(dirichlet));
-  }
   double time() const override { return m_sim.time(); }
   void set_time(double t) override { m_sim.set_time(t); }
   void set_velocity(const Eigen::Vector3d& v0) override {
@@ -205,19 +201,32 @@ class LinearDynamic final : public HierarchySolver<Scalar> {
   const std::array<std::vector<double>, 3>* face_velocity() const override {
     return &m_sim.velocity();
   }
-  double inertia() const override { return m_sim.inertia(); }
-  void save_carried(io::Checkpoint& c) const override { add_velocity(c, m_sim.velocity()); }
-  void restore_carried(const io::Checkpoint& c) override {
-    restore_velocity(c, m_sim.velocity());
-    m_sim.set_time(c.time);
-  }
-  std::size_t bytes() const override { return m_sim.multigrid().bytes(); }
 
  protected:
-  grid::Multigrid<3, Scalar>& hierarchy() override { return m_sim.multigrid(); }
+  template <typename... Args>
+  explicit Dynamic(Args&&... args) : m_sim(std::forward<Args>(args)...) {}
+  Integrator m_sim;
+};
 
- private:
-  grid::BackwardEuler<3, Scalar> m_sim;
+template <typename Scalar>
+class LinearDynamic final : public Dynamic<grid::BackwardEuler<3, Scalar>, Scalar> {
+ public:
+  LinearDynamic(const scene::GridSetup& setup, const scene::Scene& s)
+      : Dynamic<grid::BackwardEuler<3, Scalar>, Scalar>(setup.problem, time_step_options(s),
+                                                        multigrid_options(s)) {}
+  StepStats solve(double, const VectorField& dirichlet) override {
+    return linear_stats(this->m_sim.step(dirichlet));
+  }
+  double inertia() const override { return this->m_sim.inertia(); }
+  void save_carried(io::Checkpoint& c) const override { add_velocity(c, this->m_sim.velocity()); }
+  void restore_carried(const io::Checkpoint& c) override {
+    restore_velocity(c, this->m_sim.velocity());
+    this->m_sim.set_time(c.time);
+  }
+  std::size_t bytes() const override { return this->m_sim.multigrid().bytes(); }
+
+ protected:
+  grid::Multigrid<3, Scalar>& hierarchy() override { return this->m_sim.multigrid(); }
 };
 
 class CorotatedStatic final : public HierarchySolver<double> {
@@ -239,20 +248,12 @@ class CorotatedStatic final : public HierarchySolver<double> {
   grid::CorotatedMultigrid<3> m_solver;
 };
 
-class CorotatedDynamic final : public HierarchySolver<double> {
+class CorotatedDynamic final : public Dynamic<grid::CorotatedBackwardEuler<3>, double> {
  public:
   CorotatedDynamic(const scene::GridSetup& setup, const scene::Scene& s)
-      : m_sim(setup.problem, stepping(s), multigrid_options(s), corotated_options(s)) {}
+      : Dynamic(setup.problem, stepping(s), multigrid_options(s), corotated_options(s)) {}
   StepStats solve(double, const VectorField& dirichlet) override {
     return corotated_stats(m_sim.step(dirichlet));
-  }
-  double time() const override { return m_sim.time(); }
-  void set_time(double t) override { m_sim.set_time(t); }
-  void set_velocity(const Eigen::Vector3d& v0) override {
-    m_sim.set_velocity([v0](const grid::Vec<3>&) { return v0; });
-  }
-  const std::array<std::vector<double>, 3>* face_velocity() const override {
-    return &m_sim.velocity();
   }
   void save_carried(io::Checkpoint& c) const override {
     add_velocity(c, m_sim.velocity());
@@ -274,7 +275,6 @@ class CorotatedDynamic final : public HierarchySolver<double> {
     o.accelerate = false;
     return o;
   }
-  grid::CorotatedBackwardEuler<3> m_sim;
 };
 
 std::unique_ptr<GridStepper::Solver> make_solver(const scene::GridSetup& setup,
