@@ -3,13 +3,14 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "grid_run.hpp"
 #include "interruption.hpp"
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/threads.hpp"
+#include "mgelastic/core/timer.hpp"
 #include "mgelastic/scene/scene.hpp"
-#include "run_checkpoints.hpp"
-#include "tet_run.hpp"
+#include "mgelastic/sim/run_checkpoints.hpp"
+#include "mgelastic/sim/simulation.hpp"
+#include "run_printer.hpp"
 
 namespace mgelastic::app {
 namespace {
@@ -26,21 +27,27 @@ struct RunOptions {
 void run_scene(const scene::Scene& s, const std::filesystem::path& output, bool resume) {
   const std::filesystem::path dir = output.empty() ? std::filesystem::path(s.output_dir) : output;
   // A refused resume throws here, before anything is written.
-  RunCheckpoints checkpoints(s, dir, resume);
+  sim::RunCheckpoints checkpoints(s, dir, resume);
   if (checkpoints.first_frame() >= s.time.frames) {
     std::printf(
         "nothing to resume: %s already holds the last frame %d (raise time.frames to "
         "continue)\n",
-        checkpoint_path(dir).string().c_str(), s.time.frames - 1);
+        sim::checkpoint_path(dir).string().c_str(), s.time.frames - 1);
     return;
   }
   const InterruptionGuard guard;
   try {
-    if (s.engine == "tet") {
-      run_tet_scene(s, dir, checkpoints);
-    } else {
-      run_grid_scene(s, dir, checkpoints);
+    Timer timer;
+    sim::Simulation simulation(s);
+    print_setup(simulation, timer.seconds());
+    if (const io::Checkpoint* from = checkpoints.resume_from()) {
+      simulation.restore(*from);
+      std::printf("resumed from %s: frame %d (t = %.6g s) done\n", from->source.c_str(),
+                  from->frame, from->time);
     }
+    RunPrinter printer(s, dir, checkpoints);
+    simulation.run(printer);
+    printer.print_summary(simulation, dir);
   } catch (const Error& e) {
     // Engine errors about the set-up (e.g. an unsupported body) name no file: it is the scene's.
     if (!e.context().file.empty()) throw;

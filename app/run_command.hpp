@@ -1,6 +1,6 @@
 #pragma once
 // `mgelastic run SCENE [--threads N] [--output DIR] [--resume]`: the frames of a scene with the
-// grid or tet engine, VTK/OBJ/PLY output, checkpoints (run_checkpoints.hpp) and a summary.
+// grid or tet engine, VTK/OBJ/PLY output, checkpoints (mgelastic/sim/run_checkpoints.hpp) and a summary.
 #include <CLI/CLI.hpp>
 #include <filesystem>
 

@@ -239,7 +239,7 @@ TEST(AtomicFile, ExistingFileSurvivesAFailedWrite) {
 }
 
 // Write time of one grid-engine frame (displacement at the nodes, cell type, pressure and von
-// Mises at the cells, as app/grid_run.cpp writes them for a single-precision solve) in both
+// Mises at the cells, as sim/output_observer.cpp writes them for a single-precision solve) in both
 // encodings. A measurement, not a
 // check: run with --gtest_also_run_disabled_tests; MGELASTIC_VTK_BENCH_N sets the lattice size.
 TEST(VtkWriters, DISABLED_FrameWriteTime) {

@@ -84,7 +84,7 @@ struct CorotatedReport {
   int cycles() const { return static_cast<int>(nonlinear.size()) - 1; }
 };
 
-// What later cycles read besides the finest unknowns (checkpoints, app/grid_run.cpp): the frozen
+// What later cycles read besides the finest unknowns (checkpoints, sim/grid_stepper.cpp): the frozen
 // rows are a function of the rotations they were built from, which lag the displacement by up to
 // k cycles, so those rotations, the cycles since their refresh and the Newton step's recycled
 // corrections decide the next cycles. The rest (coarse levels' rotations, rows, smoother blocks,

@@ -22,6 +22,7 @@ class KeyframedMotion {
   KeyframedMotion(const Eigen::Vector3d& pivot, std::vector<RigidKeyframe> keys);
 
   bool is_fixed() const { return m_keys.empty(); }
+  const Eigen::Vector3d& pivot() const { return m_pivot; }
   // Position at `time` of the material point at rest position `rest`.
   Eigen::Vector3d position(const Eigen::Vector3d& rest, double time) const;
   Eigen::Vector3d displacement(const Eigen::Vector3d& rest, double time) const {

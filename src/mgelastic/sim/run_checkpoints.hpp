@@ -1,10 +1,11 @@
 #pragma once
-// Checkpoints of `mgelastic run` (format: mgelastic/io/checkpoint.hpp). One file,
-// OUTPUT_DIR/checkpoint.mgck, replaced atomically: every `output.checkpoint_every` frames, after
-// the last frame, after the frame in progress when SIGINT/SIGTERM stop the run, and, when a frame
-// diverges, with the state of the last good frame. `run --resume` reads it back, refuses it
-// unless it was written by the same scene, engine and thread count, and the engine continues with
-// the next frame; the .pvd series is part of the state, so it lists every frame.
+// Checkpoints of a run (Simulation::run with an OutputObserver, `mgelastic run`) (format:
+// mgelastic/io/checkpoint.hpp). One file, OUTPUT_DIR/checkpoint.mgck, replaced atomically: every
+// `output.checkpoint_every` frames, after the last frame, after the frame in progress when
+// SIGINT/SIGTERM stop the run, and, when a frame diverges, with the state of the last good frame.
+// `run --resume` reads it back, refuses it unless it was written by the same scene, engine and
+// thread count, and the engine continues with the next frame; the .pvd series is part of the state,
+// so it lists every frame.
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -15,7 +16,7 @@
 #include "mgelastic/io/vtk_writers.hpp"
 #include "mgelastic/scene/scene.hpp"
 
-namespace mgelastic::app {
+namespace mgelastic::sim {
 
 std::filesystem::path checkpoint_path(const std::filesystem::path& output_dir);
 
@@ -26,8 +27,12 @@ std::uint64_t scene_fingerprint(const scene::Scene& s);
 
 // The series so far, stored in the checkpoint as the u8 array "series" (one line per entry:
 // time as a hexadecimal float, part, file).
-void add_series(io::Checkpoint& checkpoint, const std::vector<io::SeriesEntry>& series);
+io::NamedArray series_array(const std::vector<io::SeriesEntry>& series);
 std::vector<io::SeriesEntry> series_of(const io::Checkpoint& checkpoint);
+
+// Reads a checkpoint to continue `s` from; throws Error (naming the file and the reason) when
+// there is none, it is damaged, or another scene, engine or thread count wrote it.
+io::Checkpoint read_resume_checkpoint(const scene::Scene& s, const std::filesystem::path& path);
 
 class RunCheckpoints {
  public:
@@ -40,8 +45,6 @@ class RunCheckpoints {
   const io::Checkpoint* resume_from() const { return m_resume ? &*m_resume : nullptr; }
   int first_frame() const { return m_resume ? m_resume->frame + 1 : 0; }
 
-  // A checkpoint of frame `frame` at `time` with the run's identity; the engine adds its arrays.
-  io::Checkpoint begin(int frame, double time) const;
   // The frame completed with this state: it becomes the last good one, and is written when the
   // frame is due (every N frames, or the last frame) or `now` (interrupted).
   void completed(io::Checkpoint state, bool now);
@@ -52,8 +55,6 @@ class RunCheckpoints {
  private:
   const scene::Scene* m_scene;
   std::filesystem::path m_path;
-  std::uint64_t m_fingerprint;
-  int m_threads;
   std::optional<io::Checkpoint> m_resume;
   std::optional<io::Checkpoint> m_last_good;
   bool m_last_good_written = false;
@@ -64,4 +65,4 @@ class RunCheckpoints {
 // the checkpoint holds.
 Error frame_failed(const Error& e, RunCheckpoints& checkpoints, int frame, double time);
 
-}  // namespace mgelastic::app
+}  // namespace mgelastic::sim

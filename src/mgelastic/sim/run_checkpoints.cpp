@@ -1,4 +1,4 @@
-#include "run_checkpoints.hpp"
+#include "mgelastic/sim/run_checkpoints.hpp"
 
 #include <cstdio>
 #include <cstdlib>
@@ -8,7 +8,7 @@
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/threads.hpp"
 
-namespace mgelastic::app {
+namespace mgelastic::sim {
 
 namespace {
 
@@ -35,7 +35,7 @@ std::uint64_t scene_fingerprint(const scene::Scene& s) {
   return io::fnv1a64(s.engine + "\n" + document.dump());
 }
 
-void add_series(io::Checkpoint& checkpoint, const std::vector<io::SeriesEntry>& series) {
+io::NamedArray series_array(const std::vector<io::SeriesEntry>& series) {
   std::string text;
   for (const io::SeriesEntry& e : series) {
     char time[64];
@@ -43,7 +43,9 @@ void add_series(io::Checkpoint& checkpoint, const std::vector<io::SeriesEntry>& 
     text += std::string(time) + "\t" + std::to_string(e.part) + "\t" + e.file + "\n";
   }
   const auto* bytes = reinterpret_cast<const std::uint8_t*>(text.data());
-  checkpoint.add<std::uint8_t>("series", std::span(bytes, text.size()));
+  io::Checkpoint holder;
+  holder.add<std::uint8_t>("series", std::span(bytes, text.size()));
+  return std::move(holder.arrays.front());
 }
 
 std::vector<io::SeriesEntry> series_of(const io::Checkpoint& checkpoint) {
@@ -62,45 +64,37 @@ std::vector<io::SeriesEntry> series_of(const io::Checkpoint& checkpoint) {
   return series;
 }
 
-RunCheckpoints::RunCheckpoints(const scene::Scene& s, std::filesystem::path dir, bool resume)
-    : m_scene(&s),
-      m_path(checkpoint_path(dir)),
-      m_fingerprint(scene_fingerprint(s)),
-      m_threads(thread_count()) {
-  if (!resume) return;
-  const ErrorContext where{.file = m_path.string()};
-  if (!std::filesystem::exists(m_path))
+io::Checkpoint read_resume_checkpoint(const scene::Scene& s, const std::filesystem::path& path) {
+  const std::uint64_t fingerprint = scene_fingerprint(s);
+  const int threads = thread_count();
+  const ErrorContext where{.file = path.string()};
+  if (!std::filesystem::exists(path))
     throw Error("--resume: no checkpoint here (run without --resume to start from frame 0)", where);
-  io::Checkpoint c = io::read_checkpoint(m_path);
+  io::Checkpoint c = io::read_checkpoint(path);
   if (c.engine != s.engine)
     throw Error("--resume: the checkpoint was written by the " + c.engine +
                     " engine, this scene uses the " + s.engine + " engine",
                 where);
-  if (c.scene_fingerprint != m_fingerprint)
+  if (c.scene_fingerprint != fingerprint)
     throw Error("--resume: the checkpoint belongs to a different scene (scene fingerprint " +
-                    hex(c.scene_fingerprint) + ", this scene " + hex(m_fingerprint) +
+                    hex(c.scene_fingerprint) + ", this scene " + hex(fingerprint) +
                     "); only output.dir, output.checkpoint_every and time.frames may change "
                     "between a run and its resume",
                 where);
-  if (c.threads != m_threads)
+  if (c.threads != threads)
     throw Error("--resume: the checkpoint was written with " + std::to_string(c.threads) +
-                    " threads, this run has " + std::to_string(m_threads) +
+                    " threads, this run has " + std::to_string(threads) +
                     "; frames are bit-identical only with the same count (pass --threads " +
                     std::to_string(c.threads) + ")",
                 where);
   if (c.frame < 0)
     throw Error("--resume: corrupted checkpoint: frame index " + std::to_string(c.frame), where);
-  m_resume = std::move(c);
+  return c;
 }
 
-io::Checkpoint RunCheckpoints::begin(int frame, double time) const {
-  io::Checkpoint c;
-  c.engine = m_scene->engine;
-  c.scene_fingerprint = m_fingerprint;
-  c.threads = m_threads;
-  c.frame = frame;
-  c.time = time;
-  return c;
+RunCheckpoints::RunCheckpoints(const scene::Scene& s, std::filesystem::path dir, bool resume)
+    : m_scene(&s), m_path(checkpoint_path(dir)) {
+  if (resume) m_resume = read_resume_checkpoint(s, m_path);
 }
 
 void RunCheckpoints::completed(io::Checkpoint state, bool now) {
@@ -136,4 +130,4 @@ Error frame_failed(const Error& e, RunCheckpoints& checkpoints, int frame, doubl
   return Error(reason, e.context());
 }
 
-}  // namespace mgelastic::app
+}  // namespace mgelastic::sim

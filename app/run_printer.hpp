@@ -1,0 +1,30 @@
+#pragma once
+// What `mgelastic run` prints around a sim::Simulation: the scene and hierarchy before the
+// frames, a progress line (grid) or one line (tet) per frame, and a summary with phase times.
+// The files are written by sim::OutputObserver, which this observer extends.
+#include "mgelastic/sim/output_observer.hpp"
+#include "mgelastic/sim/simulation.hpp"
+#include "progress.hpp"
+
+namespace mgelastic::app {
+
+// Scene, setup and hierarchy lines of a freshly built simulation.
+void print_setup(const sim::Simulation& simulation, double build_seconds);
+
+class RunPrinter : public sim::OutputObserver {
+ public:
+  RunPrinter(const scene::Scene& scene, std::filesystem::path dir,
+             sim::RunCheckpoints& checkpoints);
+  bool frame_done(const sim::Simulation& simulation, const sim::FrameStats& stats) override;
+  Error frame_failed(const sim::Simulation& simulation, const Error& error) override;
+  // The summary lines after the run.
+  void print_summary(const sim::Simulation& simulation, const std::filesystem::path& dir);
+
+ private:
+  Progress m_progress;
+  sim::FrameStats m_total;  // summed over the frames of this run
+  int m_frames = 0, m_unconverged = 0, m_rate_steps = 0;
+  double m_log_rate_sum = 0, m_last_quasi_linear = 0;
+};
+
+}  // namespace mgelastic::app

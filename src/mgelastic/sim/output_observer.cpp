@@ -1,0 +1,127 @@
+#include "mgelastic/sim/output_observer.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "mgelastic/core/timer.hpp"
+#include "mgelastic/geometry/tet_mesh_vtu.hpp"
+#include "mgelastic/io/surface_mesh_writers.hpp"
+#include "mgelastic/sim/simulation.hpp"
+
+namespace mgelastic::sim {
+namespace {
+
+bool wants(const scene::Scene& s, const std::string& format) {
+  return std::find(s.formats.begin(), s.formats.end(), format) != s.formats.end();
+}
+
+// The scene's `output.vtk_encoding`.
+io::VtkEncoding vtk_encoding(const scene::Scene& s) {
+  return s.vtk_encoding == "ascii" ? io::VtkEncoding::ASCII : io::VtkEncoding::BINARY;
+}
+
+// `stem_NNNN.ext`.
+std::string frame_name(const std::string& stem, int frame, const std::string& extension) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "_%04d.", frame);
+  return stem + buffer + extension;
+}
+
+io::ImageData grid_image(const GridStepper& grid) {
+  io::ImageData image;
+  image.cells = grid.cells();
+  image.spacing = grid.spacing();
+  image.origin = grid.origin();
+  // Fields of a single-precision solve are stored as Float32: half the bytes to write.
+  const auto real = grid.single_precision() ? io::VtkScalar::FLOAT32 : io::VtkScalar::FLOAT64;
+  image.point_data.push_back({"displacement", 3, grid.displacement().values, real});
+  const auto& types = grid.cell_types();
+  image.cell_data = {
+      {"cell_type", 1, std::vector<double>(types.begin(), types.end()), io::VtkScalar::UINT8},
+      {"pressure", 1, grid.pressure(), real},
+      {"von_mises", 1, grid.von_mises(), real}};
+  return image;
+}
+
+// The surface files of both engines; `rest` gives the .vtp's displacement field.
+void write_surface(const scene::Scene& s, const std::filesystem::path& dir, int frame, double time,
+                   const io::SurfaceVertices& deformed, const io::SurfaceVertices& rest,
+                   const io::SurfaceTriangles& triangles, std::vector<io::SeriesEntry>& entries) {
+  if (wants(s, "vtk")) {
+    const std::string name = frame_name("surface", frame, "vtp");
+    io::DataArray displacement{"displacement", 3, {}};
+    const io::SurfaceVertices d = deformed - rest;
+    displacement.values.assign(d.data(), d.data() + d.size());
+    io::write_vtp(dir / name, deformed, triangles, {displacement}, vtk_encoding(s));
+    entries.push_back({time, name, 1});
+  }
+  if (wants(s, "obj"))
+    io::write_obj(dir / frame_name("surface", frame, "obj"), deformed, triangles);
+  if (wants(s, "ply"))
+    io::write_ply(dir / frame_name("surface", frame, "ply"), deformed, triangles, true);
+}
+
+}  // namespace
+
+std::vector<io::SeriesEntry> write_frame(const Simulation& simulation,
+                                         const std::filesystem::path& dir, int frame, double time) {
+  const scene::Scene& s = simulation.scene();
+  std::vector<io::SeriesEntry> entries;
+  if (const GridStepper* grid = simulation.grid()) {
+    if (wants(s, "vtk")) {
+      const std::string name = frame_name("grid", frame, "vti");
+      io::write_vti(dir / name, grid_image(*grid), vtk_encoding(s));
+      entries.push_back({time, name, 0});
+    }
+    write_surface(s, dir, frame, time, grid->surface_vertices(), grid->rest_surface().vertices,
+                  grid->rest_surface().triangles, entries);
+    return entries;
+  }
+  const TetStepper& tet = *simulation.tet();
+  const io::SurfaceVertices surface = tet.surface_vertices();
+  if (wants(s, "vtk")) {
+    const Eigen::MatrixX3d positions = tet.solver().positions_matrix();
+    const Eigen::MatrixX3d displacement = positions - tet.setup().mesh.vertices;
+    geometry::TetMesh deformed = tet.setup().mesh;
+    deformed.vertices = positions;
+    const std::string name = frame_name("tet", frame, "vtu");
+    const geometry::VtuField point_fields[] = {{"displacement", displacement}};
+    const geometry::VtuField cell_fields[] = {{"von_mises", tet.von_mises()}};
+    geometry::write_vtu(dir / name, deformed, point_fields, cell_fields, vtk_encoding(s));
+    entries.push_back({time, name, 0});
+  }
+  write_surface(s, dir, frame, time, surface, tet.rest_surface(), tet.triangles(), entries);
+  return entries;
+}
+
+OutputObserver::OutputObserver(const scene::Scene& scene, std::filesystem::path dir,
+                               RunCheckpoints& checkpoints)
+    : m_scene(&scene), m_dir(std::move(dir)), m_checkpoints(&checkpoints) {
+  if (const io::Checkpoint* resume = checkpoints.resume_from()) m_series = series_of(*resume);
+}
+
+void OutputObserver::started(const Simulation&) {
+  std::error_code ec;
+  std::filesystem::create_directories(m_dir, ec);
+  if (ec)
+    throw Error("cannot create the output directory: " + ec.message(),
+                ErrorContext{.file = m_dir.string()});
+}
+
+bool OutputObserver::frame_done(const Simulation& simulation, const FrameStats& stats) {
+  Timer timer;
+  for (const auto& e : write_frame(simulation, m_dir, stats.frame, stats.time))
+    m_series.push_back(e);
+  if (!m_series.empty()) io::write_pvd(m_dir / "simulation.pvd", m_series);
+  m_last_output_seconds = timer.seconds();
+  m_output_seconds += m_last_output_seconds;
+  const bool stop = stop_requested && stop_requested();
+  m_checkpoints->completed(simulation.checkpoint({series_array(m_series)}), stop);
+  return !stop;
+}
+
+Error OutputObserver::frame_failed(const Simulation& simulation, const Error& error) {
+  return sim::frame_failed(error, *m_checkpoints, simulation.frame(), simulation.attempt_time());
+}
+
+}  // namespace mgelastic::sim
