@@ -92,14 +92,13 @@ void zero_correction(Level<Dim, Scalar>& fine) {
 }
 
 // The double residual of the solution, rounded once, as the float level's right-hand side; its
-// norm (of the rounded values: relative difference <= float round-off).
+// norm in double (of the unrounded values).
 template <int Dim, typename Scalar>
 double residual_to_correction_problem(const Level<Dim, double>& solution,
                                       Level<Dim, Scalar>& fine) {
   std::array<Scalar*, Dim + 1> b;
   for (int f = 0; f <= Dim; ++f) b[f] = fine.b[f].data();
-  residual_into<Dim, double, Scalar>(solution, b);
-  return residual_norm<Dim, Scalar>(b, fine.size());
+  return residual_into<Dim, double, Scalar>(solution, b);
 }
 
 template <int Dim, typename Scalar>

@@ -27,7 +27,8 @@ constexpr std::ptrdiff_t residual_chunk = 512;
 template <int Dim, typename Scalar, typename Out>
 void stencil_residual(const Level<Dim, Scalar>& level, const std::array<const Scalar*, Dim>& u,
                       const std::array<std::ptrdiff_t, Dim>& s,
-                      const StencilConstants<Dim, Scalar>& c, const std::array<Out*, Dim + 1>& r) {
+                      const StencilConstants<Dim, Scalar>& c, const std::array<Out*, Dim + 1>& r,
+                      std::vector<double>* chunk_squares) {
   std::array<const Relaxation*, Dim + 1> relax;
   std::array<const Scalar*, Dim + 1> b;
   for (int f = 0; f <= Dim; ++f) {
@@ -46,6 +47,7 @@ void stencil_residual(const Level<Dim, Scalar>& level, const std::array<const Sc
     std::fill(r[f] + hi, r[f] + n, Out(0));
   }
   const std::ptrdiff_t chunks = (hi - lo + residual_chunk - 1) / residual_chunk;
+  if (chunk_squares) chunk_squares->assign(static_cast<std::size_t>(chunks), 0.0);
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t q = 0; q < chunks; ++q) {
     const std::ptrdiff_t begin = lo + q * residual_chunk;
@@ -69,12 +71,27 @@ void stencil_residual(const Level<Dim, Scalar>& level, const std::array<const Sc
       }
       for (std::ptrdiff_t i = 0; i < m; ++i)
         out[i] = rf[i] == Relaxation::DISTRIBUTIVE ? static_cast<Out>(v[i]) : Out(0);
+      if (!chunk_squares) continue;
+      double squares = 0;
+      for (std::ptrdiff_t i = 0; i < m; ++i)
+        squares += rf[i] == Relaxation::DISTRIBUTIVE ? static_cast<double>(v[i]) * v[i] : 0.0;
+      (*chunk_squares)[q] += squares;
     }
   }
 }
 
+// Band rows; with `squares`, also the sum of their squared residuals (before rounding to Out),
+// added in row order.
 template <int Dim, typename Scalar, typename Out>
-void band_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Dim + 1>& r) {
+void band_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Dim + 1>& r,
+                   double* squares) {
+  std::vector<Scalar> values;  // the rows' residuals, kept only when squares are asked for
+  const auto keep = [&](std::size_t count) {
+    if (squares) values.assign(count, Scalar(0));
+  };
+  const auto add_squares = [&] {
+    for (Scalar v : values) *squares += static_cast<double>(v) * v;
+  };
   auto row_value = [&](const SparseRows<Scalar>& rows, std::ptrdiff_t m) {
     Scalar sum = 0;
     for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e)
@@ -84,22 +101,30 @@ void band_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Dim +
   // Momentum rows from their compact form (band_kernel.hpp; the CSR rows may be dropped).
   const BandKernel<Scalar>& kernel = level.band_kernel;
   const auto u_count = static_cast<std::ptrdiff_t>(kernel.rows());
+  keep(kernel.rows());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t m = 0; m < u_count; ++m) {
     const int f = kernel.field[m];
     const std::uint32_t k = kernel.target[m];
-    r[f][k] = static_cast<Out>(level.b[f][k] - kernel.constant[m] - kernel.row_sum(level.x, m));
+    const Scalar value = level.b[f][k] - kernel.constant[m] - kernel.row_sum(level.x, m);
+    r[f][k] = static_cast<Out>(value);
+    if (squares) values[m] = value;
   }
+  if (squares) add_squares();
   if (level.lambda <= 0) return;
   const auto& p_rows = level.band_p;
   const Scalar d0 = level.mu * level.mu / level.lambda;
   const auto p_count = static_cast<std::ptrdiff_t>(p_rows.rows());
+  keep(p_rows.rows());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t m = 0; m < p_count; ++m) {
     const std::uint32_t k = p_rows.target_index[m];
-    r[Dim][k] = static_cast<Out>(level.b[Dim][k] - p_rows.constant[m] - row_value(p_rows, m) -
-                                 (d0 + level.band_p_extra[m]) * level.x[Dim][k]);
+    const Scalar value = level.b[Dim][k] - p_rows.constant[m] - row_value(p_rows, m) -
+                         (d0 + level.band_p_extra[m]) * level.x[Dim][k];
+    r[Dim][k] = static_cast<Out>(value);
+    if (squares) values[m] = value;
   }
+  if (squares) add_squares();
 }
 
 // Sums of squares over fixed chunks in parallel, added in chunk order: the same value for any
@@ -127,7 +152,7 @@ double norm_of(const std::array<const T*, Dim + 1>& r, std::size_t size) {
 }  // namespace
 
 template <int Dim, typename Scalar, typename Out>
-void residual_into(const Level<Dim, Scalar>& level, const std::array<Out*, Dim + 1>& r) {
+double residual_into(const Level<Dim, Scalar>& level, const std::array<Out*, Dim + 1>& r) {
   std::array<const Scalar*, Dim> u;
   std::array<std::ptrdiff_t, Dim> s;
   for (int i = 0; i < Dim; ++i) {
@@ -136,15 +161,12 @@ void residual_into(const Level<Dim, Scalar>& level, const std::array<Out*, Dim +
   }
   const Scalar inv_h = static_cast<Scalar>(1.0 / level.lattice.h);
   const StencilConstants<Dim, Scalar> c{level.mu, inv_h, inv_h * inv_h};
-  stencil_residual<Dim, Scalar, Out>(level, u, s, c, r);
-  band_residual<Dim, Scalar, Out>(level, r);
-}
-
-template <int Dim, typename T>
-double residual_norm(const std::array<T*, Dim + 1>& r, std::size_t size) {
-  std::array<const T*, Dim + 1> fields;
-  for (int f = 0; f <= Dim; ++f) fields[f] = r[f];
-  return norm_of<Dim, T>(fields, size);
+  std::vector<double> chunk_squares;
+  stencil_residual<Dim, Scalar, Out>(level, u, s, c, r, &chunk_squares);
+  double squares = 0;
+  for (double value : chunk_squares) squares += value;
+  band_residual<Dim, Scalar, Out>(level, r, &squares);
+  return std::sqrt(squares);
 }
 
 template <int Dim, typename Scalar>
@@ -155,7 +177,16 @@ void update_residual(Level<Dim, Scalar>& level) {
     if (level.r[f].size() != level.size()) level.r[f].assign(level.size(), Scalar(0));
     r[f] = level.r[f].data();
   }
-  residual_into<Dim, Scalar, Scalar>(level, r);
+  std::array<const Scalar*, Dim> u;
+  std::array<std::ptrdiff_t, Dim> s;
+  for (int i = 0; i < Dim; ++i) {
+    u[i] = level.x[i].data();
+    s[i] = level.lattice.stride(i);
+  }
+  const Scalar inv_h = static_cast<Scalar>(1.0 / level.lattice.h);
+  const StencilConstants<Dim, Scalar> c{level.mu, inv_h, inv_h * inv_h};
+  stencil_residual<Dim, Scalar, Scalar>(level, u, s, c, r, nullptr);
+  band_residual<Dim, Scalar, Scalar>(level, r, nullptr);
 }
 
 template <int Dim, typename Scalar>
@@ -171,13 +202,13 @@ double residual_norm(const Level<Dim, Scalar>& level) {
   return norm_of<Dim, Scalar>(r, level.size());
 }
 
-#define MGELASTIC_INSTANTIATE(D, S)                                        \
-  template void update_residual<D, S>(Level<D, S>&);                       \
-  template double compute_residual<D, S>(Level<D, S>&);                    \
-  template double residual_norm<D, S>(const Level<D, S>&);                 \
-  template void residual_into<D, double, S>(const Level<D, double>&,       \
-                                            const std::array<S*, D + 1>&); \
-  template double residual_norm<D, S>(const std::array<S*, D + 1>&, std::size_t);
+#define MGELASTIC_INSTANTIATE(D, S)                                    \
+  template void update_residual<D, S>(Level<D, S>&);                   \
+  template double compute_residual<D, S>(Level<D, S>&);                \
+  template double residual_norm<D, S>(const Level<D, S>&);             \
+  template double residual_into<D, double, S>(const Level<D, double>&, \
+                                              const std::array<S*, D + 1>&);
+
 MGELASTIC_INSTANTIATE(2, float)
 MGELASTIC_INSTANTIATE(2, double)
 MGELASTIC_INSTANTIATE(3, float)

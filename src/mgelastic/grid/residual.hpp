@@ -29,12 +29,9 @@ double residual_norm(const Level<Dim, Scalar>& level);
 
 // The residual of a double level written into other arrays (Dim + 1 of the lattice size), e.g.
 // straight into the right-hand side of a float level (mixed-precision refinement), so the
-// double level needs no r of its own. Values equal update_residual's, rounded once to Out.
+// double level needs no r of its own. Values equal update_residual's, rounded once to Out;
+// returns the norm above of the unrounded values (a residual beyond float range stays finite).
 template <int Dim, typename Scalar, typename Out>
-void residual_into(const Level<Dim, Scalar>& level, const std::array<Out*, Dim + 1>& r);
-
-// The norm above of residual arrays held outside a level.
-template <int Dim, typename T>
-double residual_norm(const std::array<T*, Dim + 1>& r, std::size_t size);
+double residual_into(const Level<Dim, Scalar>& level, const std::array<Out*, Dim + 1>& r);
 
 }  // namespace mgelastic::grid
