@@ -170,6 +170,36 @@ Error RunPrinter::frame_failed(const sim::Simulation& simulation, const Error& e
   return sim::OutputObserver::frame_failed(simulation, error);
 }
 
+namespace {
+
+// The last frame's probes and reactions (all frames: probes.csv).
+void print_probes(const scene::Scene& s, const sim::ProbeTable& table) {
+  if (table.empty()) return;
+  const auto& samples = table.last_samples();
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const sim::ProbeSample& p = samples[i];
+    std::printf("probe %s: u = (%.6g, %.6g, %.6g) m, von Mises %.6g Pa, pressure %.6g Pa\n",
+                s.probes[i].name.c_str(), p.displacement[0], p.displacement[1], p.displacement[2],
+                p.von_mises, p.pressure);
+  }
+  if (!table.last_reactions()) {
+    if (!s.constraints.empty())
+      std::printf("reactions: not computed for the co-rotated grid model\n");
+    return;
+  }
+  const auto& reactions = *table.last_reactions();
+  for (std::size_t c = 0; c < reactions.size(); ++c) {
+    const Reaction& r = reactions[c];
+    std::printf(
+        "reaction of constraint %zu: F = (%.6g, %.6g, %.6g) N, M = (%.6g, %.6g, %.6g) N m "
+        "about (%.4g, %.4g, %.4g) m\n",
+        c, r.force[0], r.force[1], r.force[2], r.moment[0], r.moment[1], r.moment[2], r.point[0],
+        r.point[1], r.point[2]);
+  }
+}
+
+}  // namespace
+
 void RunPrinter::print_summary(const sim::Simulation& simulation,
                                const std::filesystem::path& dir) {
   m_progress.finish();
@@ -230,6 +260,7 @@ void RunPrinter::print_summary(const sim::Simulation& simulation,
       std::printf("warning: some frames did not reach the tolerance %.1e within %d cycles\n",
                   s.tolerance, s.max_vcycles);
   }
+  print_probes(simulation.scene(), probes());
   std::printf("wrote %s\n", dir.string().c_str());
 }
 

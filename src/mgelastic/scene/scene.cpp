@@ -1,5 +1,7 @@
 #include "mgelastic/scene/scene.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -54,6 +56,28 @@ Scene::Constraint parse_constraint(const nlohmann::json& c, const std::string& f
   }
   constraint.motion = KeyframedMotion(vec3(c["pivot"]), std::move(frames));
   return constraint;
+}
+
+// Probe names become CSV column prefixes: unique, and free of separators and quotes.
+std::vector<Scene::Probe> parse_probes(const nlohmann::json& probes, const std::string& file) {
+  std::vector<Scene::Probe> out;
+  for (std::size_t i = 0; i < probes.size(); ++i) {
+    const std::string name = probes[i]["name"];
+    const std::string pointer = "/output/probes/" + std::to_string(i) + "/name";
+    const bool valid = !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+      return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
+    });
+    if (!valid)
+      throw Error("a probe name must be non-empty and use only letters, digits, _ - . (got \"" +
+                      name + "\")",
+                  ErrorContext{.file = file, .pointer = pointer});
+    for (const Scene::Probe& earlier : out)
+      if (earlier.name == name)
+        throw Error("probe name \"" + name + "\" is used twice",
+                    ErrorContext{.file = file, .pointer = pointer});
+    out.push_back({name, vec3(probes[i]["point"])});
+  }
+  return out;
 }
 
 }  // namespace
@@ -115,6 +139,7 @@ Scene parse_scene(const nlohmann::json& document, const std::string& file,
   s.checkpoint_every = d["output"]["checkpoint_every"];
   for (const auto& f : d["output"]["formats"]) s.formats.push_back(f);
   s.vtk_encoding = d["output"]["vtk_encoding"];
+  s.probes = parse_probes(d["output"]["probes"], file);
   return s;
 }
 

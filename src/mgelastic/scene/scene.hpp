@@ -94,6 +94,11 @@ struct Scene {
   std::vector<std::string> formats;
   std::string vtk_encoding = "binary";  // or "ascii"
   int checkpoint_every = 10;  // frames; 0 = only at the end, on interruption and on divergence
+  struct Probe {
+    std::string name;
+    Eigen::Vector3d point;  // m, rest position
+  };
+  std::vector<Probe> probes;  // sampled after every frame (sim/probes.hpp)
 };
 
 // Reads, validates and types a scene file; errors name the file and line (JSON syntax) or the

@@ -268,6 +268,23 @@ Field build_schema() {
               "(grid engine) or cube edge (tet engine)",
               "", 0.5, 0.0, true, 4.0)});
   Field formats = choice("", "Output format", "vtk", {"vtk", "obj", "ply"});
+  Field probe = object("", "A named point sampled after every frame (probes.csv)",
+                       {[] {
+                          Field f{"name", FieldType::STRING,
+                                  "Column prefix in probes.csv (unique; letters, digits, _ - .)",
+                                  "", nullptr};
+                          f.required = true;
+                          return f;
+                        }(),
+                        [] {
+                          Field f = vector3("point",
+                                            "Rest position inside the body: displacement "
+                                            "(trilinear in the lattice / barycentric in its tet), "
+                                            "von Mises stress and pressure (of its cell / tet)",
+                                            "m", nullptr);
+                          f.required = true;
+                          return f;
+                        }()});
   Field output = object("output", "Results",
                         {Field{"dir", FieldType::STRING,
                                "Output directory, relative to the working directory", "", "out"},
@@ -289,6 +306,10 @@ Field build_schema() {
                                  "this many frames, after the last frame and when a run is "
                                  "interrupted or diverges; 0: only in those cases",
                                  10, 0),
+                         array("probes",
+                               "Points sampled after every frame; probes.csv holds them and the "
+                               "reaction force and moment of every constraint",
+                               probe),
                          surface});
   Field root = object(
       "", "A mgelastic scene",

@@ -123,6 +123,8 @@ class GridStepper::Solver {
   // The finest level and its unknowns (fields and checkpoints).
   virtual const grid::Level<3, double>* level_double() const { return nullptr; }
   virtual const grid::Level<3, float>* level_float() const { return nullptr; }
+  // The linear model's double solution level (reactions); null for the co-rotated model.
+  virtual const grid::Level<3, double>* linear_solution() const { return nullptr; }
   virtual double solution(int field, std::ptrdiff_t k) const = 0;
   virtual std::array<std::vector<double>, 4> unknowns_state() const = 0;
   virtual void set_unknowns_state(const std::array<std::vector<double>, 4>& x) = 0;
@@ -180,6 +182,7 @@ class LinearStatic final : public HierarchySolver<Scalar> {
                             : m_mg.solve(m_scene.tolerance, m_scene.max_vcycles));
   }
   std::size_t bytes() const override { return m_mg.bytes(); }
+  const grid::Level<3, double>* linear_solution() const override { return &m_mg.solution_level(); }
 
  protected:
   grid::Multigrid<3, Scalar>& hierarchy() override { return m_mg; }
@@ -224,6 +227,9 @@ class LinearDynamic final : public Dynamic<grid::BackwardEuler<3, Scalar>, Scala
     this->m_sim.set_time(c.time);
   }
   std::size_t bytes() const override { return this->m_sim.multigrid().bytes(); }
+  const grid::Level<3, double>* linear_solution() const override {
+    return &this->m_sim.multigrid().solution_level();
+  }
 
  protected:
   grid::Multigrid<3, Scalar>& hierarchy() override { return this->m_sim.multigrid(); }
@@ -411,8 +417,21 @@ const std::vector<double>& GridStepper::velocity() const {
 
 namespace {
 
+// Pressure -trace(sigma) / 3 in Pa of an interior cell. The solver's p is the paper's scaled
+// pressure (sigma = mu (grad u + grad u^T) - mu p I, p = -(lambda / mu) div u), so the mean
+// stress needs mu p and the divergence of the cell's faces.
 template <typename Scalar>
-void cell_fields(const grid::Level<3, Scalar>& level, const GridStepper::Solver& solver,
+double cell_pressure(const grid::Level<3, Scalar>& level, const GridStepper::Solver& solver,
+                     std::ptrdiff_t cell, double mu) {
+  double divergence = 0;
+  for (int i = 0; i < 3; ++i)
+    divergence += solver.solution(i, cell + level.lattice.stride(i)) - solver.solution(i, cell);
+  divergence /= level.lattice.h;
+  return mu * solver.solution(3, cell) - 2.0 / 3.0 * mu * divergence;
+}
+
+template <typename Scalar>
+void cell_fields(const grid::Level<3, Scalar>& level, const GridStepper::Solver& solver, double mu,
                  std::vector<double>& von_mises, std::vector<double>& pressure,
                  std::vector<std::uint8_t>& types) {
   const auto& n = level.lattice.cells;
@@ -423,7 +442,7 @@ void cell_fields(const grid::Level<3, Scalar>& level, const GridStepper::Solver&
         const std::ptrdiff_t cell = level.lattice.index(grid::IVec<3>(i, j, k));
         const bool interior = level.cells[cell] == grid::CellType::INTERIOR;
         types.push_back(static_cast<std::uint8_t>(level.cells[cell]));
-        pressure.push_back(interior ? solver.solution(3, cell) : 0.0);
+        pressure.push_back(interior ? cell_pressure(level, solver, cell, mu) : 0.0);
         if (level.cells[cell] == grid::CellType::EXTERIOR) von_mises[c] = 0.0;
       }
 }
@@ -432,14 +451,14 @@ void cell_fields(const grid::Level<3, Scalar>& level, const GridStepper::Solver&
 
 const std::vector<double>& GridStepper::von_mises() const {
   if (!m_cache->von_mises) {
-    std::vector<double> stress = grid::von_mises_stress(
-        displacement(), grid::Material{m_scene->youngs_modulus, m_scene->poisson_ratio});
+    const grid::Material material{m_scene->youngs_modulus, m_scene->poisson_ratio};
+    std::vector<double> stress = grid::von_mises_stress(displacement(), material);
     std::vector<double> pressure;
     std::vector<std::uint8_t> types;
     if (const auto* level = m_solver->level_float())
-      cell_fields(*level, *m_solver, stress, pressure, types);
+      cell_fields(*level, *m_solver, material.mu(), stress, pressure, types);
     else
-      cell_fields(*m_solver->level_double(), *m_solver, stress, pressure, types);
+      cell_fields(*m_solver->level_double(), *m_solver, material.mu(), stress, pressure, types);
     m_cache->von_mises = std::move(stress);
     m_cache->pressure = std::move(pressure);
     m_cache->cell_types = std::move(types);
@@ -476,6 +495,10 @@ auto with_level(const GridStepper::Solver& solver, F f) {
   return f(solver.level_double()->lattice);
 }
 }  // namespace
+
+const grid::Level<3, double>* GridStepper::linear_solution() const {
+  return m_solver->linear_solution();
+}
 
 Eigen::Vector3i GridStepper::cells() const {
   return with_level(*m_solver, [](const auto& lattice) {

@@ -7,7 +7,8 @@
 // Fields (computed on first access after each frame, then cached), all x fastest:
 //   displacement()  nodal, (nx + 1)(ny + 1)(nz + 1) nodes x 3 components, m
 //   velocity()      nodal, same layout, m/s (zero for quasistatic runs)
-//   pressure()      per lattice cell, nx ny nz, Pa (0 outside interior cells)
+//   pressure()      per lattice cell, nx ny nz, -trace(sigma) / 3 in Pa (0 outside interior
+//                   cells)
 //   von_mises()     per lattice cell, Pa (0 in exterior cells)
 //   cell_types()    per lattice cell, grid::CellType values
 // In numpy terms a nodal field is a C-order array of shape (nz + 1, ny + 1, nx + 1, 3), or with
@@ -61,6 +62,9 @@ class GridStepper {
   const std::vector<std::uint8_t>& cell_types() const;
   const grid::PointRows& surface_vertices() const;  // deformed embedded surface, N x 3
   const geometry::TriangleMesh& rest_surface() const { return m_setup.surface; }
+  // The linear model's finest level in double (its x: the solution), for reactions; null for
+  // the co-rotated model.
+  const grid::Level<3, double>* linear_solution() const;
   Eigen::Vector3i cells() const;  // lattice cells per axis
   double spacing() const;
   Eigen::Vector3d origin() const;

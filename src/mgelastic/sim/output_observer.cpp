@@ -6,6 +6,7 @@
 #include "mgelastic/core/timer.hpp"
 #include "mgelastic/geometry/tet_mesh_vtu.hpp"
 #include "mgelastic/io/surface_mesh_writers.hpp"
+#include "mgelastic/sim/probes.hpp"
 #include "mgelastic/sim/simulation.hpp"
 
 namespace mgelastic::sim {
@@ -100,12 +101,15 @@ OutputObserver::OutputObserver(const scene::Scene& scene, std::filesystem::path 
   if (const io::Checkpoint* resume = checkpoints.resume_from()) m_series = series_of(*resume);
 }
 
-void OutputObserver::started(const Simulation&) {
+void OutputObserver::started(const Simulation& simulation) {
+  check_probes(simulation);  // before any file is written or any frame is computed
   std::error_code ec;
   std::filesystem::create_directories(m_dir, ec);
   if (ec)
     throw Error("cannot create the output directory: " + ec.message(),
                 ErrorContext{.file = m_dir.string()});
+  if (m_checkpoints->resume_from())
+    m_probes.keep_rows_before(m_dir / "probes.csv", simulation.frame());
 }
 
 bool OutputObserver::frame_done(const Simulation& simulation, const FrameStats& stats) {
@@ -113,6 +117,10 @@ bool OutputObserver::frame_done(const Simulation& simulation, const FrameStats& 
   for (const auto& e : write_frame(simulation, m_dir, stats.frame, stats.time))
     m_series.push_back(e);
   if (!m_series.empty()) io::write_pvd(m_dir / "simulation.pvd", m_series);
+  if (!m_scene->probes.empty() || !m_scene->constraints.empty()) {
+    m_probes.add(simulation, stats.frame, stats.time);
+    m_probes.write(m_dir / "probes.csv");
+  }
   m_last_output_seconds = timer.seconds();
   m_output_seconds += m_last_output_seconds;
   const bool stop = stop_requested && stop_requested();

@@ -5,6 +5,7 @@
 //              single-precision solves) and surface_NNNN.vtp (deformed embedded surface)
 //   tet   vtk: tet_NNNN.vtu (deformed mesh; displacement, von_mises) and surface_NNNN.vtp
 //   both  obj/ply: surface_NNNN.obj / .ply (binary); simulation.pvd (the series so far);
+//         probes.csv (probe_table.hpp) when the scene has probes or constraints;
 //         checkpoint.mgck as scheduled by RunCheckpoints (run_checkpoints.hpp).
 #include <filesystem>
 #include <functional>
@@ -12,6 +13,7 @@
 
 #include "mgelastic/io/vtk_writers.hpp"
 #include "mgelastic/sim/observer.hpp"
+#include "mgelastic/sim/probe_table.hpp"
 #include "mgelastic/sim/run_checkpoints.hpp"
 
 namespace mgelastic::sim {
@@ -32,12 +34,14 @@ class OutputObserver : public Observer {
   double output_seconds() const { return m_output_seconds; }
   double last_output_seconds() const { return m_last_output_seconds; }
   const std::vector<io::SeriesEntry>& series() const { return m_series; }
+  const ProbeTable& probes() const { return m_probes; }
 
  private:
   const scene::Scene* m_scene;
   std::filesystem::path m_dir;
   RunCheckpoints* m_checkpoints;
   std::vector<io::SeriesEntry> m_series;
+  ProbeTable m_probes;
   double m_output_seconds = 0, m_last_output_seconds = 0;
 };
 

@@ -163,23 +163,35 @@ void TetStepper::apply_motion() {
 // Von Mises stress of the corotated linear stress per element: strain eps = sym(R^T F) - I with
 // R the polar rotation of F at the current positions (independent of the rotation method the
 // solver used), sigma = lambda tr(eps) I + 2 mu eps, von Mises = sqrt(3/2 dev(sigma):dev(sigma)).
+namespace {
+
+// Cauchy stress of element e: the linear law on the unrotated strain (the corotated model).
+Eigen::Matrix3d element_stress(const tet::TetBody& body, const Eigen::VectorXd& positions, int e) {
+  const Eigen::Matrix3d f =
+      tet::deformation_gradient(body.corners(e, positions), body.rest_edge_inverse(e));
+  const Eigen::Matrix3d unrotated = tet::polar_rotation(f).transpose() * f;
+  const Eigen::Matrix3d strain =
+      0.5 * (unrotated + unrotated.transpose()) - Eigen::Matrix3d::Identity();
+  const Eigen::Vector2d lame = tet::lame_parameters(body.materials()[e]);
+  return lame[0] * strain.trace() * Eigen::Matrix3d::Identity() + 2.0 * lame[1] * strain;
+}
+
+}  // namespace
+
 Eigen::MatrixXd TetStepper::von_mises() const {
-  const tet::TetBody& body = m_solver->body();
-  const Eigen::VectorXd& positions = m_solver->positions();
-  Eigen::MatrixXd stress(body.element_count(), 1);
-  for (int e = 0; e < body.element_count(); ++e) {
-    const Eigen::Matrix3d f =
-        tet::deformation_gradient(body.corners(e, positions), body.rest_edge_inverse(e));
-    const Eigen::Matrix3d unrotated = tet::polar_rotation(f).transpose() * f;
-    const Eigen::Matrix3d strain =
-        0.5 * (unrotated + unrotated.transpose()) - Eigen::Matrix3d::Identity();
-    const Eigen::Vector2d lame = tet::lame_parameters(body.materials()[e]);
-    const Eigen::Matrix3d sigma =
-        lame[0] * strain.trace() * Eigen::Matrix3d::Identity() + 2.0 * lame[1] * strain;
-    const Eigen::Matrix3d deviator = sigma - sigma.trace() / 3.0 * Eigen::Matrix3d::Identity();
-    stress(e, 0) = std::sqrt(1.5 * deviator.squaredNorm());
-  }
+  Eigen::MatrixXd stress(m_solver->body().element_count(), 1);
+  for (int e = 0; e < stress.rows(); ++e) stress(e, 0) = von_mises_of(e);
   return stress;
+}
+
+double TetStepper::von_mises_of(int element) const {
+  const Eigen::Matrix3d sigma = element_stress(m_solver->body(), m_solver->positions(), element);
+  const Eigen::Matrix3d deviator = sigma - sigma.trace() / 3.0 * Eigen::Matrix3d::Identity();
+  return std::sqrt(1.5 * deviator.squaredNorm());
+}
+
+double TetStepper::pressure(int element) const {
+  return -element_stress(m_solver->body(), m_solver->positions(), element).trace() / 3.0;
 }
 
 io::SurfaceVertices TetStepper::surface_vertices() const {

@@ -39,6 +39,8 @@ class TetStepper {
   const Eigen::VectorXd& positions() const { return m_solver->positions(); }
   const Eigen::VectorXd& velocities() const { return m_solver->velocities(); }
   Eigen::MatrixXd von_mises() const;             // tets x 1
+  double von_mises_of(int element) const;        // of one tet, Pa
+  double pressure(int element) const;            // -trace(sigma) / 3 of one tet, Pa
   io::SurfaceVertices surface_vertices() const;  // deformed embedded surface
   const io::SurfaceVertices& rest_surface() const { return m_surface_rest; }
   const io::SurfaceTriangles& triangles() const { return m_setup.surface.triangles; }
