@@ -623,6 +623,8 @@ void print_validation(const validation::ValidationReport& report) {
       std::printf("%6d %10.4g %13.6e %13.6e %10.3e %7.2f %10zu %9.2f%s\n", r.resolution, r.h,
                   r.value, r.reference, r.relative_error, r.order, r.unknowns, r.seconds,
                   r.converged ? "" : "  NOT converged");
+    std::printf("order: last pair %.2f, least-squares fit over all rows %.2f\n", s.observed_order,
+                s.fitted_order);
     if (std::isfinite(s.richardson_value))
       std::printf(
           "Richardson (last three): order %.2f, extrapolated %.6e (%+.2f %% of reference)\n",

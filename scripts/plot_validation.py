@@ -38,10 +38,10 @@ def plot(series, title, path, guide_order=1.0):
         e = [r["relative_error"] for r in rows]
         xs_all += n
         ys_all += e
-        order = s["observed_order"]
+        order = s["fitted_order"]
         label = f'{s["engine"]} nu={s["poisson_ratio"]:g} {s["quantity"].split(",")[0]}'
         if order is not None:
-            label += f" (order {order:.2f})"
+            label += f" (fit {order:.2f})"
         style = "o-" if s["engine"] == "grid" else "s--"
         ax.loglog(n, e, style, label=label)
     if xs_all:

@@ -25,6 +25,7 @@ TEST(ConvergenceSeries, ObservedOrderOfASecondOrderSeries) {
   EXPECT_TRUE(std::isnan(s.rows[0].order));
   EXPECT_NEAR(s.rows[1].order, 2.0, 1e-9);
   EXPECT_NEAR(s.observed_order, 2.0, 1e-9);
+  EXPECT_NEAR(s.fitted_order, 2.0, 1e-9);
 }
 
 TEST(ConvergenceSeries, RichardsonRecoversTheLimitWithoutTheReference) {
@@ -40,8 +41,9 @@ TEST(ConvergenceSeries, JsonRecordHoldsEveryField) {
   const nlohmann::json j = to_json(report);
   EXPECT_EQ(j["benchmark"], "validation");
   const nlohmann::json& s = j["series"][0];
-  for (const char* key : {"study", "engine", "quantity", "unit", "poisson_ratio", "rows",
-                          "observed_order", "richardson_order", "richardson_value", "note"})
+  for (const char* key :
+       {"study", "engine", "quantity", "unit", "poisson_ratio", "rows", "observed_order",
+        "fitted_order", "richardson_order", "richardson_value", "note"})
     EXPECT_TRUE(s.contains(key)) << key;
   for (const char* key : {"resolution", "h", "value", "reference", "relative_error", "order",
                           "unknowns", "seconds", "converged"})

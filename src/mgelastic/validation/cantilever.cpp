@@ -91,8 +91,10 @@ ConvergenceSeries cantilever_study(const std::string& engine, const Cantilever& 
   series.note =
       std::string("L = ") + std::to_string(L) + " m, section " + std::to_string(t) + " m square; " +
       (tip ? "10 N on the face x = L (loads.forces, normal [1,0,0])" : "gravity 9.81 m/s^2") +
-      "; reference: Timoshenko (kappa = 10(1+nu)/(12+11nu)); a 3D clamp is 2-5 % stiffer than "
-      "beam theory, so the converged 3D value lies a few percent below it";
+      "; reference: Timoshenko (kappa = 10(1+nu)/(12+11nu)); a fully clamped 3D end is stiffer "
+      "than beam theory's clamp (2-5 % is the usual figure), so the converged 3D value "
+      "(Richardson, "
+      "valid in the asymptotic range only) lies below it";
   series.finish();
   return series;
 }

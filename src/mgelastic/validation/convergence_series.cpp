@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 
+#include <Eigen/Dense>
+
 namespace mgelastic::validation {
 namespace {
 
@@ -28,6 +30,15 @@ void ConvergenceSeries::finish() {
       row.order = std::log(previous.relative_error / row.relative_error) / std::log(ratio);
   }
   observed_order = rows.size() >= 2 ? rows.back().order : kNaN;
+  fitted_order = kNaN;
+  Eigen::MatrixX2d design(rows.size(), 2);
+  Eigen::VectorXd log_error(rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    design.row(i) << 1.0, std::log(static_cast<double>(rows[i].resolution));
+    log_error[i] = std::log(rows[i].relative_error);
+  }
+  if (rows.size() >= 2 && log_error.allFinite())
+    fitted_order = -design.colPivHouseholderQr().solve(log_error)[1];
   richardson_order = richardson_value = kNaN;
   // An error norm (reference 0) has no limit to extrapolate.
   if (rows.size() < 3 || rows.back().reference == 0) return;
@@ -59,6 +70,7 @@ nlohmann::json to_json(const ConvergenceSeries& series) {
           {"poisson_ratio", series.poisson_ratio},
           {"rows", rows},
           {"observed_order", number(series.observed_order)},
+          {"fitted_order", number(series.fitted_order)},
           {"richardson_order", number(series.richardson_order)},
           {"richardson_value", number(series.richardson_value)},
           {"note", series.note}};

@@ -39,6 +39,9 @@ struct ConvergenceSeries {
   double poisson_ratio = 0.0;
   std::vector<ConvergenceRow> rows;
   double observed_order = 0.0;  // order of the last row (NaN with fewer than two rows)
+  // Least-squares slope of -log(error) against log(resolution) over all rows: steadier than
+  // observed_order where the error scatters with how the lattice cuts a curved surface.
+  double fitted_order = 0.0;
   double richardson_order = 0.0, richardson_value = 0.0;
   std::string note;  // reference used, known effects, the choices made
 
