@@ -4,8 +4,9 @@
     mgelastic bench validation --json > validation.json
     scripts/plot_validation.py validation.json docs/images
 
-writes validation_lame_sphere.png, validation_cantilever.png and validation_disc.png into the output folder. Needs numpy and
-matplotlib (Debian python3-matplotlib; /usr/bin/python3).
+writes validation_lame_sphere.png, validation_cantilever.png and validation_disc.png into the
+output folder and prints the summary table of docs/validation.md (Markdown) on stdout. Needs numpy
+and matplotlib (Debian python3-matplotlib; /usr/bin/python3).
 """
 import json
 import sys
@@ -56,6 +57,33 @@ def plot(series, title, path, guide_order=1.0):
     plt.close(fig)
 
 
+def fmt(x, spec):
+    return "-" if x is None else format(x, spec)
+
+
+def markdown_table(report):
+    """One row per series: errors at each resolution, orders, Richardson; then the patch test."""
+    lines = ["| case | engine | nu | resolutions | relative error | order (last / fit) "
+             "| Richardson vs reference |", "|---|---|---|---|---|---|---|"]
+    for s in report["series"]:
+        rows = s["rows"]
+        ns = ", ".join(str(r["resolution"]) for r in rows)
+        errors = ", ".join(f'{100 * r["relative_error"]:.2g} %' if r["reference"] != 0 else
+                           f'{r["relative_error"]:.2e}' for r in rows)
+        rich = "-"
+        if s["richardson_value"] is not None and rows[-1]["reference"] != 0:
+            rich = f'{100 * (s["richardson_value"] / rows[-1]["reference"] - 1):+.2f} % ' \
+                   f'(p = {s["richardson_order"]:.2f})'
+        case = f'{s["study"]}: {s["quantity"].split(",")[0]}'.replace("|", "\\|")
+        lines.append(f'| {case} | {s["engine"]} | {s["poisson_ratio"]:g} | {ns} | {errors} | '
+                     f'{fmt(s["observed_order"], ".2f")} / {fmt(s["fitted_order"], ".2f")} | '
+                     f'{rich} |')
+    for p in report["patch_test"]:
+        lines.append(f'| patch_test: max error / max \\|G x\\| | {p["engine"]} | 0.3 | '
+                     f'{p["resolution"]} | {p["max_relative_error"]:.1e} | - | - |')
+    return "\n".join(lines)
+
+
 def main():
     if len(sys.argv) != 3:
         sys.exit(__doc__)
@@ -71,7 +99,8 @@ def main():
          out / "validation_lame_sphere.png")
     plot(pick("cantilever_tip_force", "cantilever_gravity"),
          "Cantilever tip deflection vs Timoshenko", out / "validation_cantilever.png")
-    plot(pick("disc"), "Paper's disc (Sec. 9.2, 2D): max error", out / "validation_disc.png", 2.0)
+    plot(pick("disc"), "Paper's disc (Sec. 9.2, 2D): max error", out / "validation_disc.png", 1.0)
+    print(markdown_table(report))
 
 
 if __name__ == "__main__":

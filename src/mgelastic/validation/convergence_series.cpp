@@ -9,6 +9,7 @@ namespace mgelastic::validation {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kMinRichardsonOrder = 0.5;
 
 // JSON has no NaN: undefined figures are null.
 nlohmann::json number(double x) {
@@ -47,8 +48,12 @@ void ConvergenceSeries::finish() {
   const double d12 = r1.value - r2.value, d23 = r2.value - r3.value;
   // Monotone convergence only: oscillating or stalled differences have no order.
   if (ratio <= 1 || d23 == 0 || d12 / d23 <= 0) return;
-  richardson_order = std::log(d12 / d23) / std::log(ratio);
-  richardson_value = r3.value + (r3.value - r2.value) / (std::pow(ratio, richardson_order) - 1);
+  const double order = std::log(d12 / d23) / std::log(ratio);
+  // Below order 0.5 the differences hardly shrink: the rows are not in the asymptotic range and
+  // 1 / (r^p - 1) would amplify them into nonsense.
+  if (order < kMinRichardsonOrder) return;
+  richardson_order = order;
+  richardson_value = r3.value + (r3.value - r2.value) / (std::pow(ratio, order) - 1);
 }
 
 nlohmann::json to_json(const ConvergenceSeries& series) {

@@ -7,8 +7,8 @@
 // and, on the last three rows (constant ratio r assumed), Richardson extrapolation from the values
 // alone, without the reference:
 //   p = log((v1 - v2) / (v2 - v3)) / log(r),   v_inf = v3 + (v3 - v2) / (r^p - 1).
-// Quantities that are not defined (fewer rows, non-monotone differences, an error norm as the
-// value) are NaN, written to JSON
+// Quantities that are not defined (fewer rows, non-monotone differences, a Richardson order below
+// 0.5, an error norm as the value) are NaN, written to JSON
 // as null.
 #include <cstddef>
 #include <string>
