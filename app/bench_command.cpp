@@ -1,5 +1,6 @@
 #include "bench_command.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <exception>
@@ -22,6 +23,7 @@
 #include "mgelastic/scene/grid_setup.hpp"
 #include "mgelastic/scene/scene.hpp"
 #include "mgelastic/tet/step_benchmark.hpp"
+#include "mgelastic/validation/validation_suite.hpp"
 
 namespace mgelastic::app {
 namespace {
@@ -610,6 +612,35 @@ void run_tet_step(const TetStepOptions& o) {
               << "\n";
 }
 
+// Issue 22's validation cases (validation/validation_suite.hpp) as a table or JSON.
+void print_validation(const validation::ValidationReport& report) {
+  for (const validation::ConvergenceSeries& s : report.series) {
+    std::printf("%s, %s engine, nu = %.2f: %s (%s)\n", s.study.c_str(), s.engine.c_str(),
+                s.poisson_ratio, s.quantity.c_str(), s.unit.c_str());
+    std::printf("%6s %10s %13s %13s %10s %7s %10s %9s\n", "n", "h", "value", "reference",
+                "rel. error", "order", "unknowns", "seconds");
+    for (const validation::ConvergenceRow& r : s.rows)
+      std::printf("%6d %10.4g %13.6e %13.6e %10.3e %7.2f %10zu %9.2f%s\n", r.resolution, r.h,
+                  r.value, r.reference, r.relative_error, r.order, r.unknowns, r.seconds,
+                  r.converged ? "" : "  NOT converged");
+    std::printf("order: last pair %.2f, least-squares fit over all rows %.2f\n", s.observed_order,
+                s.fitted_order);
+    if (std::isfinite(s.richardson_value))
+      std::printf(
+          "Richardson (last three): order %.2f, extrapolated %.6e (%+.2f %% of reference)\n",
+          s.richardson_order, s.richardson_value,
+          s.rows.back().reference != 0 ? 100 * (s.richardson_value / s.rows.back().reference - 1)
+                                       : 0.0);
+    std::printf("note: %s\n\n", s.note.c_str());
+  }
+  if (report.patch.empty()) return;
+  std::printf("patch_test: homogeneous strain, max relative error at free variables\n");
+  std::printf("%6s %6s %12s %10s\n", "engine", "n", "max error", "unknowns");
+  for (const validation::PatchTestResult& p : report.patch)
+    std::printf("%6s %6d %12.3e %10zu%s\n", p.engine.c_str(), p.resolution, p.max_relative_error,
+                p.unknowns, p.converged ? "" : "  NOT converged");
+}
+
 void register_bench_commands(CLI::App& app) {
   CLI::App* bench = app.add_subcommand("bench", "Solver benchmarks");
   bench->require_subcommand(1);
@@ -699,6 +730,51 @@ void register_bench_commands(CLI::App& app) {
     TetStepOptions o = tet_options;
     std::erase_if(o.cells, [](int n) { return n == 0; });
     run_tet_step(o);
+  });
+  static validation::ValidationOptions validation_options;
+  static bool validation_json = false, validation_quick = false;
+  static int validation_threads = 0;
+  static std::vector<int> sphere_grid, sphere_tet, cantilever_grid, cantilever_tet, patch_sizes,
+      disc_sizes;
+  CLI::App* valid = bench->add_subcommand(
+      "validation",
+      "Analytic and reference cases with observed orders (docs/validation.md): Lame sphere, "
+      "cantilever (tip force, gravity), patch test, the paper's disc");
+  valid->add_flag("--quick", validation_quick, "Small sizes (seconds, not minutes)");
+  valid->add_option("--sphere-grid", sphere_grid, "Grid cells across the sphere (0 = skip)");
+  valid->add_option("--sphere-tet", sphere_tet, "Tet cubes across the sphere (0 = skip)");
+  valid->add_option("--cantilever-grid", cantilever_grid,
+                    "Grid cells along the cantilever (0 = skip)");
+  valid->add_option("--cantilever-tet", cantilever_tet,
+                    "Tet cubes along the cantilever (0 = skip)");
+  valid->add_option("--patch", patch_sizes, "Patch test cells across the cube (0 = skip)");
+  valid->add_option("--disc", disc_sizes, "Disc cells across the unit square (0 = skip)");
+  valid->add_option("--threads", validation_threads, "Worker threads (default: all)");
+  valid->add_flag("--json", validation_json, "Print JSON instead of a table");
+  valid->callback([] {
+    set_thread_count(validation_threads);
+    validation::ValidationOptions o =
+        validation_quick ? validation::ValidationOptions::quick() : validation_options;
+    const auto pick = [](std::vector<int>& target, std::vector<int> given) {
+      if (given.empty()) return;
+      std::erase_if(given, [](int n) { return n <= 0; });
+      target = given;
+    };
+    pick(o.sphere_grid, sphere_grid);
+    pick(o.sphere_tet, sphere_tet);
+    pick(o.cantilever_grid, cantilever_grid);
+    pick(o.cantilever_tet, cantilever_tet);
+    pick(o.patch, patch_sizes);
+    pick(o.disc, disc_sizes);
+    const auto progress = [](const std::string& line) {
+      std::fprintf(stderr, "validation: %s\n", line.c_str());
+    };
+    const validation::ValidationReport report = validation::run_validation(o, progress);
+    if (validation_json) {
+      std::cout << validation::to_json(report).dump(2) << "\n";
+    } else {
+      print_validation(report);
+    }
   });
   static bool disc_json = false;
   CLI::App* disc = bench->add_subcommand(
