@@ -4,14 +4,17 @@ import pathlib
 import subprocess
 import sys
 
+import mgelastic
 from conftest import SOURCE_DIR
 
 EXAMPLES = SOURCE_DIR / "examples" / "python"
 
 
 def run(script, *args, cwd):
+    # The module this suite imports, whatever PYTHONPATH (maybe relative) found it.
+    env = dict(os.environ, PYTHONPATH=str(pathlib.Path(mgelastic.__file__).parent))
     return subprocess.run([sys.executable, str(EXAMPLES / script), *args], cwd=cwd, check=True,
-                          capture_output=True, text=True, env=os.environ.copy())
+                          capture_output=True, text=True, env=env)
 
 
 def test_cantilever_sweep_writes_a_png(tmp_path):
