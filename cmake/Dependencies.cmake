@@ -22,6 +22,24 @@ if(MGELASTIC_BUILD_BENCH)
   find_package(benchmark REQUIRED)
 endif()
 
+# Python module (python/): Python 3 with NumPy and pybind11. The Debian interpreter is preferred
+# over one earlier on PATH (a pyenv build without NumPy, say); -DPython3_EXECUTABLE=... chooses.
+set(MGELASTIC_HAVE_PYTHON OFF)
+if(MGELASTIC_PYTHON)
+  if(NOT DEFINED Python3_EXECUTABLE AND EXISTS /usr/bin/python3)
+    set(Python3_EXECUTABLE /usr/bin/python3)
+  endif()
+  find_package(Python3 COMPONENTS Interpreter Development.Module NumPy)
+  if(Python3_FOUND AND Python3_NumPy_FOUND)
+    find_package(pybind11 CONFIG)
+  endif()
+  if(Python3_FOUND AND Python3_NumPy_FOUND AND pybind11_FOUND)
+    set(MGELASTIC_HAVE_PYTHON ON)
+  else()
+    message(STATUS "Python 3 with NumPy and pybind11 not found: Python module disabled")
+  endif()
+endif()
+
 # hypre (BoomerAMG) is the optional baseline solver for benchmarks.
 set(MGELASTIC_HAVE_HYPRE OFF)
 if(MGELASTIC_WITH_HYPRE)
