@@ -16,6 +16,10 @@ bool wants(const scene::Scene& s, const std::string& format) {
   return std::find(s.formats.begin(), s.formats.end(), format) != s.formats.end();
 }
 
+bool wants_surface(const scene::Scene& s) {
+  return wants(s, "vtk") || wants(s, "obj") || wants(s, "ply");
+}
+
 // The scene's `output.vtk_encoding`.
 io::VtkEncoding vtk_encoding(const scene::Scene& s) {
   return s.vtk_encoding == "ascii" ? io::VtkEncoding::ASCII : io::VtkEncoding::BINARY;
@@ -74,12 +78,14 @@ std::vector<io::SeriesEntry> write_frame(const Simulation& simulation,
       io::write_vti(dir / name, grid_image(*grid), vtk_encoding(s));
       entries.push_back({time, name, 0});
     }
-    write_surface(s, dir, frame, time, grid->surface_vertices(), grid->rest_surface().vertices,
-                  grid->rest_surface().triangles, entries);
+    // The deformed surface is interpolated only when a format writes it (it costs as much as a
+    // V-cycle on large surfaces).
+    if (wants_surface(s))
+      write_surface(s, dir, frame, time, grid->surface_vertices(), grid->rest_surface().vertices,
+                    grid->rest_surface().triangles, entries);
     return entries;
   }
   const TetStepper& tet = *simulation.tet();
-  const io::SurfaceVertices surface = tet.surface_vertices();
   if (wants(s, "vtk")) {
     const Eigen::MatrixX3d positions = tet.solver().positions_matrix();
     const Eigen::MatrixX3d displacement = positions - tet.setup().mesh.vertices;
@@ -91,7 +97,9 @@ std::vector<io::SeriesEntry> write_frame(const Simulation& simulation,
     geometry::write_vtu(dir / name, deformed, point_fields, cell_fields, vtk_encoding(s));
     entries.push_back({time, name, 0});
   }
-  write_surface(s, dir, frame, time, surface, tet.rest_surface(), tet.triangles(), entries);
+  if (wants_surface(s))
+    write_surface(s, dir, frame, time, tet.surface_vertices(), tet.rest_surface(), tet.triangles(),
+                  entries);
   return entries;
 }
 
