@@ -151,8 +151,12 @@ double norm_of(const std::array<const T*, Dim + 1>& r, std::size_t size) {
 
 }  // namespace
 
+namespace {
+
+// Stencil and band residuals into r; with `squares`, their sum of squares (unrounded).
 template <int Dim, typename Scalar, typename Out>
-double residual_into(const Level<Dim, Scalar>& level, const std::array<Out*, Dim + 1>& r) {
+void level_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Dim + 1>& r,
+                    double* squares) {
   std::array<const Scalar*, Dim> u;
   std::array<std::ptrdiff_t, Dim> s;
   for (int i = 0; i < Dim; ++i) {
@@ -162,10 +166,18 @@ double residual_into(const Level<Dim, Scalar>& level, const std::array<Out*, Dim
   const Scalar inv_h = static_cast<Scalar>(1.0 / level.lattice.h);
   const StencilConstants<Dim, Scalar> c{level.mu, inv_h, inv_h * inv_h};
   std::vector<double> chunk_squares;
-  stencil_residual<Dim, Scalar, Out>(level, u, s, c, r, &chunk_squares);
+  stencil_residual<Dim, Scalar, Out>(level, u, s, c, r, squares ? &chunk_squares : nullptr);
+  if (squares)
+    for (double value : chunk_squares) *squares += value;
+  band_residual<Dim, Scalar, Out>(level, r, squares);
+}
+
+}  // namespace
+
+template <int Dim, typename Scalar, typename Out>
+double residual_into(const Level<Dim, Scalar>& level, const std::array<Out*, Dim + 1>& r) {
   double squares = 0;
-  for (double value : chunk_squares) squares += value;
-  band_residual<Dim, Scalar, Out>(level, r, &squares);
+  level_residual<Dim, Scalar, Out>(level, r, &squares);
   return std::sqrt(squares);
 }
 
@@ -177,16 +189,7 @@ void update_residual(Level<Dim, Scalar>& level) {
     if (level.r[f].size() != level.size()) level.r[f].assign(level.size(), Scalar(0));
     r[f] = level.r[f].data();
   }
-  std::array<const Scalar*, Dim> u;
-  std::array<std::ptrdiff_t, Dim> s;
-  for (int i = 0; i < Dim; ++i) {
-    u[i] = level.x[i].data();
-    s[i] = level.lattice.stride(i);
-  }
-  const Scalar inv_h = static_cast<Scalar>(1.0 / level.lattice.h);
-  const StencilConstants<Dim, Scalar> c{level.mu, inv_h, inv_h * inv_h};
-  stencil_residual<Dim, Scalar, Scalar>(level, u, s, c, r, nullptr);
-  band_residual<Dim, Scalar, Scalar>(level, r, nullptr);
+  level_residual<Dim, Scalar, Scalar>(level, r, nullptr);
 }
 
 template <int Dim, typename Scalar>
