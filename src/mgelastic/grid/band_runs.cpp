@@ -42,7 +42,7 @@ void shape_key(const Level<Dim, Scalar>& level, const Step<Dim>& step, std::stri
     append_bytes(key, static_cast<std::int32_t>(kernel.target[m] - self));
   }
   if (step.cell_block)
-    key.append(reinterpret_cast<const char*>(&level.band_block_inverse[step.index * G * G]),
+    key.append(reinterpret_cast<const char*>(level.block_inverse(step.index)),
                G * G * sizeof(Scalar));
 }
 
@@ -93,7 +93,7 @@ BandRunShape<Dim, Scalar> make_shape(const Level<Dim, Scalar>& level, const Step
     }
   }
   if (step.cell_block) {
-    std::copy_n(&level.band_block_inverse[step.index * G * G], G * G, shape.weight.begin());
+    std::copy_n(level.block_inverse(step.index), G * G, shape.weight.begin());
     return shape;
   }
   // Point group: row a sees the earlier rows of its location, (D + L_0) delta = r0; W is its

@@ -44,9 +44,12 @@ struct BandSweep {
   std::array<Scalar*, Dim + 1> x;
   const BandKernel<Scalar>& kernel;
   const Scalar* block_inverse;
+  const std::uint32_t* inverse_id;
 
   explicit BandSweep(Level<Dim, Scalar>& level)
-      : kernel(level.band_kernel), block_inverse(level.band_block_inverse.data()) {
+      : kernel(level.band_kernel),
+        block_inverse(level.band_block_inverse.data()),
+        inverse_id(level.band_block_inverse_id.data()) {
     for (int f = 0; f <= Dim; ++f) x[f] = level.x[f].data();
   }
 
@@ -71,7 +74,7 @@ struct BandSweep {
     constexpr int B = 2 * Dim;
     std::array<Scalar, B> r{};
     for (int a = 0; a < B && members[a] != UINT32_MAX; ++a) r[a] = residual(members[a]);
-    const Scalar* inverse = block_inverse + block * B * B;
+    const Scalar* inverse = block_inverse + static_cast<std::size_t>(inverse_id[block]) * B * B;
     for (int a = 0; a < B && members[a] != UINT32_MAX; ++a) {
       Scalar delta = 0;
       for (int b = 0; b < B; ++b) delta += inverse[a * B + b] * r[b];

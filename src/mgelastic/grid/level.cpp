@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <string>
 #include <unordered_map>
 
 #include <Eigen/Dense>
@@ -343,6 +344,7 @@ void build_band_blocks(Level<Dim, Scalar>& level) {
   for (std::uint32_t m = 0; m < level.band_u.rows(); ++m) row_of[level.band_u.target[m]] = m;
   std::vector<std::uint8_t> in_block(level.band_u.rows(), 0);
   constexpr int B = 2 * Dim;
+  std::unordered_map<std::string, std::uint32_t> inverse_ids;  // by the inverse's exact bytes
   for (std::size_t e = 0; e < level.band_p.rows(); ++e) {
     const std::ptrdiff_t c = level.band_p.target[e] % n;
     std::array<std::uint32_t, B> rows;
@@ -372,10 +374,18 @@ void build_band_blocks(Level<Dim, Scalar>& level) {
     }
     // S_loc is a principal block of the symmetric negative definite Schur complement.
     const Eigen::MatrixXd inverse = s.inverse();
+    std::array<Scalar, B * B> entries;
     for (int a = 0; a < B; ++a)
       for (int b = 0; b < B; ++b)
-        level.band_block_inverse.push_back(
-            a < count && b < count ? static_cast<Scalar>(inverse(a, b)) : Scalar(0));
+        entries[a * B + b] =
+            a < count && b < count ? static_cast<Scalar>(inverse(a, b)) : Scalar(0);
+    const std::string key(reinterpret_cast<const char*>(entries.data()), sizeof entries);
+    const auto [it, added] =
+        inverse_ids.try_emplace(key, static_cast<std::uint32_t>(inverse_ids.size()));
+    if (added)
+      level.band_block_inverse.insert(level.band_block_inverse.end(), entries.begin(),
+                                      entries.end());
+    level.band_block_inverse_id.push_back(it->second);
     for (int a = 0; a < count; ++a) in_block[rows[a]] = 1;
     level.band_blocks.push_back(rows);
   }
@@ -581,7 +591,8 @@ std::vector<ByteShare> Level<Dim, Scalar>::byte_breakdown() const {
        sum(band_u_schur_diagonal, band_u_pressure, band_u_pressure_factor)},
       {"band_p rows (all forms)", csr_values(band_p) + global_indices(band_p) +
                                       split_indices(band_p) + sum(band_p_extra, band_p_inverse)},
-      {"band blocks, inverses, points", sum(band_blocks, band_block_inverse, band_point_rows)},
+      {"band blocks, inverses, points",
+       sum(band_blocks, band_block_inverse, band_block_inverse_id, band_point_rows)},
       {"band kernel (patterns)", band_kernel.bytes()},
       {"band runs", band_runs.bytes()},
       {"schedules, Fig. 8 rows", schedules},
@@ -609,7 +620,8 @@ void shrink_band_arrays(Level<Dim, Scalar>& level) {
   shrink(level.band_u_schur_diagonal, level.band_u_pressure, level.band_u_pressure_factor,
          level.band_p_extra, level.band_p_inverse, level.pre_restriction_rows,
          level.post_prolongation_rows, level.band_blocks, level.band_block_inverse,
-         level.band_point_rows, level.traction.normal, level.traction.thin, level.traction.shear);
+         level.band_block_inverse_id, level.band_point_rows, level.traction.normal,
+         level.traction.thin, level.traction.shear);
   for (auto& rule : level.traction.thin) rule.neighbors.shrink_to_fit();
   for (auto& rule : level.traction.shear) rule.candidates.shrink_to_fit();
 }

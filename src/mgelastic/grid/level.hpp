@@ -139,7 +139,14 @@ struct Level {
   // every block are relaxed point-wise.
   static constexpr int block_size = 2 * Dim;
   std::vector<std::array<std::uint32_t, 2 * Dim>> band_blocks;  // band_u rows, UINT32_MAX = none
+  // The distinct inverses (block_size^2 each; blocks of one shape, most on flat faces, share
+  // one, so they stay in cache during the sweeps) and each block's inverse id.
   std::vector<Scalar> band_block_inverse;
+  std::vector<std::uint32_t> band_block_inverse_id;
+  const Scalar* block_inverse(std::size_t block) const {
+    return band_block_inverse.data() +
+           static_cast<std::size_t>(band_block_inverse_id[block]) * block_size * block_size;
+  }
   std::vector<std::uint32_t> band_point_rows;
   // band_u, its Schur diagonal and pressure factors in the compact form the sweeps read
   // (band_kernel.hpp); rebuild with build_band_kernel after changing any of them.

@@ -72,9 +72,9 @@ void release_sweep_data(Level<Dim, double>& level) {
   // Assigning a fresh object frees the storage (`v = {}` would keep a vector's capacity).
   const auto release = [](auto&... v) { ((v = std::remove_cvref_t<decltype(v)>()), ...); };
   release(level.r, level.pre_restriction_rows, level.post_prolongation_rows, level.band_blocks,
-          level.band_block_inverse, level.band_point_rows, level.band_kernel.rhs,
-          level.band_schedule, level.pre_restriction_schedule, level.post_prolongation_schedule,
-          level.band_runs);
+          level.band_block_inverse, level.band_block_inverse_id, level.band_point_rows,
+          level.band_kernel.rhs, level.band_schedule, level.pre_restriction_schedule,
+          level.post_prolongation_schedule, level.band_runs);
   drop_band_csr(level);
 }
 
