@@ -205,6 +205,22 @@ TEST(VtkWriters, ArraysSpanningSeveralBlocksReadBackExactly) {
   expect_arrays(file, image.cell_data);
 }
 
+// A borrowed field (a solver's array written without a copy) gives the same file as an owned one.
+TEST(VtkWriters, BorrowedArraysWriteTheSameBytes) {
+  test::TempDir dir;
+  const ImageData owned = lattice(4);
+  ImageData borrowed = owned;
+  for (auto* arrays : {&borrowed.point_data, &borrowed.cell_data})
+    for (std::size_t i = 0; i < arrays->size(); ++i) {
+      DataArray& a = (*arrays)[i];
+      a.values.clear();
+      a.borrowed = (arrays == &borrowed.point_data ? owned.point_data : owned.cell_data)[i].values;
+    }
+  write_vti(dir.path() / "owned.vti", owned);
+  write_vti(dir.path() / "borrowed.vti", borrowed);
+  EXPECT_EQ(bytes_of(dir.path() / "owned.vti"), bytes_of(dir.path() / "borrowed.vti"));
+}
+
 // The Python interpreter that imports VTK (Debian python3-vtk9), or empty.
 std::string python_with_vtk() {
   for (const std::string python : {"/usr/bin/python3", "python3"})

@@ -12,14 +12,14 @@ namespace {
 
 void write_array(std::ostream& out, VtkArrayEncoder& encoder, const DataArray& a,
                  std::size_t tuples, const std::filesystem::path& path) {
-  if (a.values.size() != tuples * static_cast<std::size_t>(a.components))
-    throw Error("array '" + a.name + "' has " + std::to_string(a.values.size()) +
+  const std::span<const double> values = a.data();
+  if (values.size() != tuples * static_cast<std::size_t>(a.components))
+    throw Error("array '" + a.name + "' has " + std::to_string(values.size()) +
                     " values, expected " + std::to_string(tuples * a.components),
                 ErrorContext{.file = path.string()});
   const std::string attributes =
       "Name=\"" + a.name + "\" NumberOfComponents=\"" + std::to_string(a.components) + '"';
   // Values are converted block by block as they are compressed: no converted copy of the array.
-  const std::span<const double> values(a.values);
   switch (a.type) {
     case VtkScalar::FLOAT64:
       return encoder.write<double>(out, attributes, values);
