@@ -18,8 +18,8 @@ namespace {
 
 #ifdef MGELASTIC_HAVE_LIBDEFLATE
 // One block as a zlib stream (what VTK inflates with uncompress) in `compressed`, or false when
-// the encoder fails. libdeflate level 1: lattice frames are large and written every frame; it
-// compresses float fields about as well as zlib's level 6 at several times its speed.
+// the encoder fails. Level 1: lattice frames are large and written every frame, and level 6
+// saves ~10 % of the file for 1.4x the time.
 class BlockCompressor {
  public:
   BlockCompressor() : m_compressor(libdeflate_alloc_compressor(1)) {}
