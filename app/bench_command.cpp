@@ -1,12 +1,17 @@
 #include "bench_command.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <exception>
+#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
+
+#include <omp.h>
+#include <unistd.h>
 
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/stream_triad.hpp"
@@ -20,6 +25,7 @@
 #include "mgelastic/grid/hypre_baseline.hpp"
 #include "mgelastic/grid/multigrid.hpp"
 #include "mgelastic/grid/nonaugmented_system.hpp"
+#include "mgelastic/io/vtk_writers.hpp"
 #include "mgelastic/scene/grid_setup.hpp"
 #include "mgelastic/scene/scene.hpp"
 #include "mgelastic/tet/step_benchmark.hpp"
@@ -641,9 +647,95 @@ void print_validation(const validation::ValidationReport& report) {
                 p.unknowns, p.converged ? "" : "  NOT converged");
 }
 
+// A grid-engine frame of n^3 cells as sim/output_observer.cpp writes it for a single-precision
+// solve: displacement (3 components, (n + 1)^3 nodes), cell_type (UInt8), pressure and von Mises
+// (n^3 cells), Float32. Smooth fields with an empty slab (a displaced solid, not noise).
+io::ImageData synthetic_lattice_frame(int n) {
+  io::ImageData image;
+  image.cells = Eigen::Vector3i(n, n, n);
+  image.spacing = 1.0 / n;
+  const std::size_t points = std::size_t(n + 1) * (n + 1) * (n + 1);
+  const std::size_t cells = std::size_t(n) * n * n;
+  std::vector<double> u(3 * points), type(cells), pressure(cells), von_mises(cells);
+  for (std::size_t p = 0; p < points; ++p)
+    for (int k = 0; k < 3; ++k) u[3 * p + k] = 1e-3 * std::sin(1e-4 * double(p) + k);
+  for (std::size_t c = 0; c < cells; ++c) {
+    type[c] = (c / n) % n < std::size_t(n) / 8 ? 0 : 1;
+    pressure[c] = type[c] * 1e3 * std::cos(1e-5 * double(c));
+    von_mises[c] = type[c] * 2e3 * std::sin(3e-5 * double(c));
+  }
+  image.point_data.push_back({"displacement", 3, std::move(u), io::VtkScalar::FLOAT32});
+  image.cell_data = {{"cell_type", 1, std::move(type), io::VtkScalar::UINT8},
+                     {"pressure", 1, std::move(pressure), io::VtkScalar::FLOAT32},
+                     {"von_mises", 1, std::move(von_mises), io::VtkScalar::FLOAT32}};
+  return image;
+}
+
+struct VtkBenchOptions {
+  int size = 256;
+  int repeat = 3;
+  int threads = 0;
+  std::string encoding = "binary";
+  std::string dir;
+  bool json = false;
+};
+
+// Seconds to write one synthetic lattice frame (.vti), best of `repeat`: wall and process CPU
+// (all threads), with the file size and the rate of array bytes (Float32/UInt8) per wall second.
+void run_vtk_bench(const VtkBenchOptions& o) {
+  set_thread_count(o.threads);
+  const io::ImageData image = synthetic_lattice_frame(o.size);
+  const auto encoding = o.encoding == "ascii" ? io::VtkEncoding::ASCII : io::VtkEncoding::BINARY;
+  const std::filesystem::path dir = o.dir.empty()
+                                        ? std::filesystem::temp_directory_path() /
+                                              ("mgelastic-bench-vtk-" + std::to_string(::getpid()))
+                                        : std::filesystem::path(o.dir);
+  const auto path = dir / "grid_0000.vti";
+  double wall = 1e300, cpu = 1e300;
+  for (int r = 0; r < std::max(1, o.repeat); ++r) {
+    const double w0 = omp_get_wtime();
+    const std::clock_t c0 = std::clock();
+    io::write_vti(path, image, encoding);
+    cpu = std::min(cpu, double(std::clock() - c0) / CLOCKS_PER_SEC);
+    wall = std::min(wall, omp_get_wtime() - w0);
+  }
+  const double megabytes = double(std::filesystem::file_size(path)) / 1e6;
+  const std::size_t n = o.size, points = (n + 1) * (n + 1) * (n + 1), cells = n * n * n;
+  const double raw_megabytes = double(3 * points * 4 + cells * (1 + 4 + 4)) / 1e6;
+  if (o.dir.empty()) std::filesystem::remove_all(dir);
+  const nlohmann::json record = {{"size", o.size},
+                                 {"encoding", o.encoding},
+                                 {"threads", omp_get_max_threads()},
+                                 {"seconds", wall},
+                                 {"cpu_seconds", cpu},
+                                 {"file_mb", megabytes},
+                                 {"array_mb", raw_megabytes},
+                                 {"array_mb_per_s", raw_megabytes / wall}};
+  if (o.json) {
+    std::cout << record.dump(2) << "\n";
+    return;
+  }
+  std::printf(
+      "%d^3 lattice frame (.vti, %s, %d threads): %.2f s wall, %.2f s CPU, %.1f MB file "
+      "(%.1f MB of arrays, %.0f MB/s)\n",
+      o.size, o.encoding.c_str(), omp_get_max_threads(), wall, cpu, megabytes, raw_megabytes,
+      raw_megabytes / wall);
+}
+
 void register_bench_commands(CLI::App& app) {
   CLI::App* bench = app.add_subcommand("bench", "Solver benchmarks");
   bench->require_subcommand(1);
+  static VtkBenchOptions vtk_options;
+  CLI::App* vtk = bench->add_subcommand(
+      "vtk", "Seconds to write one grid-engine lattice frame (.vti) of a synthetic n^3 lattice");
+  vtk->add_option("--size", vtk_options.size, "Cells per axis")->check(CLI::Range(1, 2048));
+  vtk->add_option("--repeat", vtk_options.repeat, "Writes; the best is reported");
+  vtk->add_option("--threads", vtk_options.threads, "Threads (0 = default)");
+  vtk->add_option("--encoding", vtk_options.encoding, "binary or ascii")
+      ->check(CLI::IsMember({"binary", "ascii"}));
+  vtk->add_option("--dir", vtk_options.dir, "Folder for the file (default: a temporary one)");
+  vtk->add_flag("--json", vtk_options.json, "Print JSON instead of a line");
+  vtk->callback([] { run_vtk_bench(vtk_options); });
   static BoxBenchOptions conv_options, cg_options;
   CLI::App* conv = bench->add_subcommand(
       "convergence", "Residual reduction per V(1,1) cycle on the paper's elastic box");

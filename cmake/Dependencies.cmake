@@ -4,6 +4,18 @@ find_package(OpenMP REQUIRED COMPONENTS CXX)
 find_package(nlohmann_json 3.10 REQUIRED)
 # zlib compresses the binary data of the VTK XML outputs (vtkZLibDataCompressor).
 find_package(ZLIB REQUIRED)
+# libdeflate (optional, Debian libdeflate-dev): a faster encoder of the same zlib streams; the VTK
+# writers use it when found (io/vtk_compressed_blocks.hpp).
+find_path(LIBDEFLATE_INCLUDE_DIR libdeflate.h)
+find_library(LIBDEFLATE_LIBRARY deflate)
+add_library(mgelastic_libdeflate INTERFACE)
+if(LIBDEFLATE_INCLUDE_DIR AND LIBDEFLATE_LIBRARY)
+  target_include_directories(mgelastic_libdeflate SYSTEM INTERFACE ${LIBDEFLATE_INCLUDE_DIR})
+  target_link_libraries(mgelastic_libdeflate INTERFACE ${LIBDEFLATE_LIBRARY})
+  target_compile_definitions(mgelastic_libdeflate INTERFACE MGELASTIC_HAVE_LIBDEFLATE)
+else()
+  message(STATUS "libdeflate not found: VTK data blocks are compressed with zlib (slower)")
+endif()
 
 # SuiteSparse CHOLMOD: sparse Cholesky for the coarsest multigrid level and tet hierarchies.
 find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)

@@ -48,6 +48,16 @@ ImageData lattice(int n) {
   return image;
 }
 
+// A frame whose arrays span several blocks each (Float64, and Float32 converted block by block).
+ImageData multi_block_lattice() {
+  ImageData image = lattice(40);
+  DataArray single = image.point_data[0];
+  single.name = "displacement32";
+  single.type = VtkScalar::FLOAT32;
+  image.point_data.push_back(std::move(single));
+  return image;
+}
+
 // What the file must hold: the values converted to the stored type.
 std::vector<double> stored(const DataArray& a) {
   std::vector<double> result;
@@ -175,7 +185,7 @@ TEST(VtkWriters, EmptyArraysHaveNoBlocks) {
 // Blocks are compressed in parallel: the file must not depend on the number of threads.
 TEST(VtkWriters, BytesDoNotDependOnTheThreadCount) {
   test::TempDir dir;
-  const ImageData image = lattice(40);
+  const ImageData image = multi_block_lattice();
   const int threads = omp_get_max_threads();
   omp_set_num_threads(1);
   write_vti(dir.path() / "one.vti", image);
@@ -183,6 +193,89 @@ TEST(VtkWriters, BytesDoNotDependOnTheThreadCount) {
   write_vti(dir.path() / "two.vti", image);
   omp_set_num_threads(threads);
   EXPECT_EQ(bytes_of(dir.path() / "one.vti"), bytes_of(dir.path() / "two.vti"));
+}
+
+TEST(VtkWriters, ArraysSpanningSeveralBlocksReadBackExactly) {
+  test::TempDir dir;
+  const ImageData image = multi_block_lattice();
+  ASSERT_GT(image.point_data[1].values.size() * sizeof(float), 3 * kVtkBlockBytes);
+  write_vti(dir.path() / "frame.vti", image);
+  const test::VtkFile file = read_vtk(dir.path() / "frame.vti");
+  expect_arrays(file, image.point_data);
+  expect_arrays(file, image.cell_data);
+}
+
+// A borrowed field (a solver's array written without a copy) gives the same file as an owned one.
+TEST(VtkWriters, BorrowedArraysWriteTheSameBytes) {
+  test::TempDir dir;
+  const ImageData owned = lattice(4);
+  ImageData borrowed = owned;
+  for (auto* arrays : {&borrowed.point_data, &borrowed.cell_data})
+    for (std::size_t i = 0; i < arrays->size(); ++i) {
+      DataArray& a = (*arrays)[i];
+      a.values.clear();
+      a.borrowed = (arrays == &borrowed.point_data ? owned.point_data : owned.cell_data)[i].values;
+    }
+  write_vti(dir.path() / "owned.vti", owned);
+  write_vti(dir.path() / "borrowed.vti", borrowed);
+  EXPECT_EQ(bytes_of(dir.path() / "owned.vti"), bytes_of(dir.path() / "borrowed.vti"));
+}
+
+// The Python interpreter that imports VTK (Debian python3-vtk9), or empty.
+std::string python_with_vtk() {
+  for (const std::string python : {"/usr/bin/python3", "python3"})
+    if (std::system((python + " -c 'import vtk' >/dev/null 2>&1").c_str()) == 0) return python;
+  return {};
+}
+
+// An array dumped by tests/io/read_with_vtk.py: little-endian Float64 values.
+std::vector<double> dumped(const std::filesystem::path& path) {
+  const std::string bytes = bytes_of(path);
+  std::vector<double> values(bytes.size() / sizeof(double));
+  if (!values.empty()) std::memcpy(values.data(), bytes.data(), values.size() * sizeof(double));
+  return values;
+}
+
+// VTK's own XML readers (what ParaView uses) read all three kinds of file, binary and ASCII, to
+// the same values. Skipped when VTK's Python module is not installed.
+TEST(VtkWriters, VtkReadersReadTheFilesBack) {
+  const std::string python = python_with_vtk();
+  if (python.empty()) GTEST_SKIP() << "no Python module vtk (Debian python3-vtk9)";
+  test::TempDir dir;
+  const ImageData image = multi_block_lattice();
+  write_vti(dir.path() / "frame.vti", image);
+  write_vti(dir.path() / "ascii.vti", lattice(2), VtkEncoding::ASCII);
+  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> vertices(4, 3);
+  vertices << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0.1, 0.2, 1.0 / 3.0;
+  Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> triangles(2, 3);
+  triangles << 0, 1, 2, 0, 3, 1;
+  const DataArray surface_displacement{"displacement", 3, random_values(12, 4), VtkScalar::FLOAT32};
+  write_vtp(dir.path() / "surface.vtp", vertices, triangles, {surface_displacement});
+  const Eigen::MatrixX3d tet_vertices = Eigen::MatrixX3d::Random(5, 3);
+  Eigen::MatrixX4i tets(2, 4);
+  tets << 0, 1, 2, 3, 1, 2, 3, 4;
+  const DataArray stress{"von_mises", 1, {1.5, 2.5}};
+  write_vtu(dir.path() / "tets.vtu", tet_vertices, tets, {}, {stress});
+  const std::string command =
+      python + " " MGELASTIC_SOURCE_DIR "/tests/io/read_with_vtk.py " + dir.path().string() + " " +
+      (dir.path() / "frame.vti").string() + " " + (dir.path() / "ascii.vti").string() + " " +
+      (dir.path() / "surface.vtp").string() + " " + (dir.path() / "tets.vtu").string();
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  const auto array = [&](const std::string& name) { return dumped(dir.path() / (name + ".f64")); };
+  for (const auto* arrays : {&image.point_data, &image.cell_data})
+    for (const DataArray& a : *arrays) EXPECT_EQ(array("frame.vti." + a.name), stored(a)) << a.name;
+  const ImageData small = lattice(2);
+  for (const auto* arrays : {&small.point_data, &small.cell_data})
+    for (const DataArray& a : *arrays) EXPECT_EQ(array("ascii.vti." + a.name), stored(a)) << a.name;
+  EXPECT_EQ(array("surface.vtp.displacement"), stored(surface_displacement));
+  EXPECT_EQ(array("surface.vtp.Points"),
+            std::vector<double>(vertices.data(), vertices.data() + vertices.size()));
+  EXPECT_EQ(array("surface.vtp.connectivity"), (std::vector<double>{0, 1, 2, 0, 3, 1}));
+  EXPECT_EQ(array("surface.vtp.offsets"), (std::vector<double>{0, 3, 6}));  // VTK adds the 0
+  EXPECT_EQ(array("tets.vtu.von_mises"), stress.values);
+  EXPECT_EQ(array("tets.vtu.Points"), flat(tet_vertices));
+  EXPECT_EQ(array("tets.vtu.connectivity"), flat(tets.cast<double>()));
+  EXPECT_EQ(array("tets.vtu.types"), (std::vector<double>{10, 10}));
 }
 
 // The Python helper of the CLI tests (tests/app/vtk_xml.py) reads both encodings, and the series

@@ -14,6 +14,9 @@
 #include <ostream>
 #include <span>
 #include <string>
+#include <vector>
+
+#include "mgelastic/io/vtk_compressed_blocks.hpp"
 
 namespace mgelastic::io {
 
@@ -30,11 +33,12 @@ class VtkArrayEncoder {
   // compressor and the header type.
   std::string file_attributes() const;
 
-  // Writes one <DataArray> element holding `values` (tuples contiguous); `attributes` are written
-  // into the start tag as they are (Name, NumberOfComponents; may be empty). T is one of float,
-  // double, std::int32_t, std::int64_t, std::uint8_t.
-  template <typename T>
-  void write(std::ostream& out, const std::string& attributes, std::span<const T> values);
+  // Writes one <DataArray> element holding `values` (tuples contiguous) stored as type T;
+  // `attributes` are written into the start tag as they are (Name, NumberOfComponents; may be
+  // empty). T is one of float, double, std::int32_t, std::int64_t, std::uint8_t; the source type S
+  // is T itself or double (converted block by block while compressing, no whole-array copy).
+  template <typename T, typename S = T>
+  void write(std::ostream& out, const std::string& attributes, std::span<const S> values);
 
   // Writes the <AppendedData> section of the binary arrays (nothing for ASCII): after the data
   // set element, before </VTKFile>.
@@ -42,7 +46,8 @@ class VtkArrayEncoder {
 
  private:
   VtkEncoding m_encoding;
-  std::string m_appended;  // the bytes of the arrays written so far, in file order
+  std::vector<CompressedArray> m_appended;  // the arrays written so far, in file order
+  std::size_t m_appended_bytes = 0;         // their total size: the next array's offset
 };
 
 }  // namespace mgelastic::io

@@ -10,34 +10,25 @@
 namespace mgelastic::io {
 namespace {
 
-template <typename T>
-void write_converted(std::ostream& out, VtkArrayEncoder& encoder, const std::string& attributes,
-                     const std::vector<double>& values) {
-  if constexpr (std::is_same_v<T, double>) {
-    encoder.write(out, attributes, std::span<const double>(values));
-  } else {
-    const std::vector<T> converted(values.begin(), values.end());
-    encoder.write(out, attributes, std::span<const T>(converted));
-  }
-}
-
 void write_array(std::ostream& out, VtkArrayEncoder& encoder, const DataArray& a,
                  std::size_t tuples, const std::filesystem::path& path) {
-  if (a.values.size() != tuples * static_cast<std::size_t>(a.components))
-    throw Error("array '" + a.name + "' has " + std::to_string(a.values.size()) +
+  const std::span<const double> values = a.data();
+  if (values.size() != tuples * static_cast<std::size_t>(a.components))
+    throw Error("array '" + a.name + "' has " + std::to_string(values.size()) +
                     " values, expected " + std::to_string(tuples * a.components),
                 ErrorContext{.file = path.string()});
   const std::string attributes =
       "Name=\"" + a.name + "\" NumberOfComponents=\"" + std::to_string(a.components) + '"';
+  // Values are converted block by block as they are compressed: no converted copy of the array.
   switch (a.type) {
     case VtkScalar::FLOAT64:
-      return write_converted<double>(out, encoder, attributes, a.values);
+      return encoder.write<double>(out, attributes, values);
     case VtkScalar::FLOAT32:
-      return write_converted<float>(out, encoder, attributes, a.values);
+      return encoder.write<float, double>(out, attributes, values);
     case VtkScalar::INT32:
-      return write_converted<std::int32_t>(out, encoder, attributes, a.values);
+      return encoder.write<std::int32_t, double>(out, attributes, values);
     case VtkScalar::UINT8:
-      return write_converted<std::uint8_t>(out, encoder, attributes, a.values);
+      return encoder.write<std::uint8_t, double>(out, attributes, values);
   }
 }
 
@@ -46,7 +37,8 @@ template <typename Matrix>
 void write_points(std::ostream& out, VtkArrayEncoder& encoder, const Matrix& vertices) {
   const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> rows = vertices;
   out << "<Points>\n";
-  encoder.write(out, "NumberOfComponents=\"3\"", std::span<const double>(rows.data(), rows.size()));
+  encoder.write<double>(out, "NumberOfComponents=\"3\"",
+                        std::span<const double>(rows.data(), rows.size()));
   out << "</Points>\n";
 }
 
@@ -60,12 +52,13 @@ void write_cells(std::ostream& out, VtkArrayEncoder& encoder, const Matrix& cell
   std::vector<std::int32_t> offsets(cells.rows());
   for (std::size_t i = 0; i < offsets.size(); ++i)
     offsets[i] = static_cast<std::int32_t>((i + 1) * cells.cols());
-  encoder.write(out, "Name=\"connectivity\"",
-                std::span<const std::int32_t>(connectivity.data(), connectivity.size()));
-  encoder.write(out, "Name=\"offsets\"", std::span<const std::int32_t>(offsets));
+  encoder.write<std::int32_t>(
+      out, "Name=\"connectivity\"",
+      std::span<const std::int32_t>(connectivity.data(), connectivity.size()));
+  encoder.write<std::int32_t>(out, "Name=\"offsets\"", std::span<const std::int32_t>(offsets));
   if (type == 0) return;
   const std::vector<std::uint8_t> types(cells.rows(), type);
-  encoder.write(out, "Name=\"types\"", std::span<const std::uint8_t>(types));
+  encoder.write<std::uint8_t>(out, "Name=\"types\"", std::span<const std::uint8_t>(types));
 }
 
 void write_arrays(std::ostream& out, VtkArrayEncoder& encoder, const char* element,

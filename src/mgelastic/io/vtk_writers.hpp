@@ -5,6 +5,7 @@
 // (vtk_array_encoder.hpp); files are written atomically (atomic_file.hpp).
 #include <Eigen/Core>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -15,12 +16,19 @@ namespace mgelastic::io {
 // The type an array is stored as in the file; values are converted from double when written.
 enum class VtkScalar { FLOAT64, FLOAT32, INT32, UINT8 };
 
-// A named array: `components` values per point (or cell), tuples stored contiguously.
+// A named array: `components` values per point (or cell), tuples stored contiguously, either in
+// `values` or, to write a solver's field without copying it, in `borrowed` (which must outlive the
+// write and is used when not empty).
 struct DataArray {
   std::string name;
   int components = 1;
   std::vector<double> values;
   VtkScalar type = VtkScalar::FLOAT64;
+  std::span<const double> borrowed{};
+
+  std::span<const double> data() const {
+    return borrowed.empty() ? std::span<const double>(values) : borrowed;
+  }
 };
 
 // Uniform grid of `cells` cells (x fastest), spacing h, origin at the min corner.
