@@ -25,6 +25,7 @@
 #include "mgelastic/grid/hypre_baseline.hpp"
 #include "mgelastic/grid/multigrid.hpp"
 #include "mgelastic/grid/nonaugmented_system.hpp"
+#include "mgelastic/io/synthetic_lattice_frame.hpp"
 #include "mgelastic/io/vtk_writers.hpp"
 #include "mgelastic/scene/grid_setup.hpp"
 #include "mgelastic/scene/scene.hpp"
@@ -647,30 +648,6 @@ void print_validation(const validation::ValidationReport& report) {
                 p.unknowns, p.converged ? "" : "  NOT converged");
 }
 
-// A grid-engine frame of n^3 cells as sim/output_observer.cpp writes it for a single-precision
-// solve: displacement (3 components, (n + 1)^3 nodes), cell_type (UInt8), pressure and von Mises
-// (n^3 cells), Float32. Smooth fields with an empty slab (a displaced solid, not noise).
-io::ImageData synthetic_lattice_frame(int n) {
-  io::ImageData image;
-  image.cells = Eigen::Vector3i(n, n, n);
-  image.spacing = 1.0 / n;
-  const std::size_t points = std::size_t(n + 1) * (n + 1) * (n + 1);
-  const std::size_t cells = std::size_t(n) * n * n;
-  std::vector<double> u(3 * points), type(cells), pressure(cells), von_mises(cells);
-  for (std::size_t p = 0; p < points; ++p)
-    for (int k = 0; k < 3; ++k) u[3 * p + k] = 1e-3 * std::sin(1e-4 * double(p) + k);
-  for (std::size_t c = 0; c < cells; ++c) {
-    type[c] = (c / n) % n < std::size_t(n) / 8 ? 0 : 1;
-    pressure[c] = type[c] * 1e3 * std::cos(1e-5 * double(c));
-    von_mises[c] = type[c] * 2e3 * std::sin(3e-5 * double(c));
-  }
-  image.point_data.push_back({"displacement", 3, std::move(u), io::VtkScalar::FLOAT32});
-  image.cell_data = {{"cell_type", 1, std::move(type), io::VtkScalar::UINT8},
-                     {"pressure", 1, std::move(pressure), io::VtkScalar::FLOAT32},
-                     {"von_mises", 1, std::move(von_mises), io::VtkScalar::FLOAT32}};
-  return image;
-}
-
 struct VtkBenchOptions {
   int size = 256;
   int repeat = 3;
@@ -684,7 +661,7 @@ struct VtkBenchOptions {
 // (all threads), with the file size and the rate of array bytes (Float32/UInt8) per wall second.
 void run_vtk_bench(const VtkBenchOptions& o) {
   set_thread_count(o.threads);
-  const io::ImageData image = synthetic_lattice_frame(o.size);
+  const io::ImageData image = io::synthetic_lattice_frame(o.size);
   const auto encoding = o.encoding == "ascii" ? io::VtkEncoding::ASCII : io::VtkEncoding::BINARY;
   const std::filesystem::path dir = o.dir.empty()
                                         ? std::filesystem::temp_directory_path() /

@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -329,43 +328,6 @@ TEST(AtomicFile, ExistingFileSurvivesAFailedWrite) {
   std::string text;
   in >> text;
   EXPECT_EQ(text, "first");
-}
-
-// Write time of one grid-engine frame (displacement at the nodes, cell type, pressure and von
-// Mises at the cells, as sim/output_observer.cpp writes them for a single-precision solve) in both
-// encodings. A measurement, not a
-// check: run with --gtest_also_run_disabled_tests; MGELASTIC_VTK_BENCH_N sets the lattice size.
-TEST(VtkWriters, DISABLED_FrameWriteTime) {
-  const char* size = std::getenv("MGELASTIC_VTK_BENCH_N");
-  const int n = size ? std::atoi(size) : 256;
-  ImageData image;
-  image.cells = Eigen::Vector3i(n, n, n);
-  const std::size_t points = std::size_t(n + 1) * (n + 1) * (n + 1), cells = std::size_t(n) * n * n;
-  // Smooth fields (a displaced solid), not noise: what compression meets in a simulation.
-  std::vector<double> u(3 * points), type(cells), pressure(cells), von_mises(cells);
-  for (std::size_t p = 0; p < points; ++p)
-    for (int k = 0; k < 3; ++k) u[3 * p + k] = 1e-3 * std::sin(1e-4 * double(p) + k);
-  for (std::size_t c = 0; c < cells; ++c) {
-    type[c] = (c / n) % n < std::size_t(n) / 8 ? 0 : 1;
-    pressure[c] = type[c] * 1e3 * std::cos(1e-5 * double(c));
-    von_mises[c] = type[c] * 2e3 * std::sin(3e-5 * double(c));
-  }
-  image.point_data.push_back({"displacement", 3, std::move(u), VtkScalar::FLOAT32});
-  image.cell_data = {{"cell_type", 1, type, VtkScalar::UINT8},
-                     {"pressure", 1, pressure, VtkScalar::FLOAT32},
-                     {"von_mises", 1, von_mises, VtkScalar::FLOAT32}};
-  test::TempDir dir;
-  for (const VtkEncoding encoding : {VtkEncoding::BINARY, VtkEncoding::ASCII}) {
-    if (encoding == VtkEncoding::ASCII && std::getenv("MGELASTIC_VTK_BENCH_SKIP_ASCII")) continue;
-    const auto path = dir.path() / "frame.vti";
-    const std::clock_t cpu = std::clock();
-    const double wall = omp_get_wtime();
-    write_vti(path, image, encoding);
-    std::printf("%d^3 %s: %.2f s CPU (process, all threads), %.2f s wall, %.1f MB\n", n,
-                encoding == VtkEncoding::BINARY ? "binary" : "ascii",
-                double(std::clock() - cpu) / CLOCKS_PER_SEC, omp_get_wtime() - wall,
-                std::filesystem::file_size(path) / 1e6);
-  }
 }
 
 }  // namespace

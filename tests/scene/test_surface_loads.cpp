@@ -57,6 +57,16 @@ Eigen::Vector3d total(const std::vector<TriangleForce>& forces) {
   return sum;
 }
 
+// The resultant of the scene's surface loads as the engine applies them.
+Eigen::Vector3d applied_total(const std::string& engine, const Scene& s) {
+  if (engine == "grid")
+    return total(surface_load_forces(s, build_grid_setup(s).surface, "surface"));
+  const Eigen::VectorXd f = build_tet_setup(s).surface_forces;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (Eigen::Index v = 0; v < f.size() / 3; ++v) sum += f.segment<3>(3 * v);
+  return sum;
+}
+
 TEST(SurfaceSelection, NormalPicksOnlyTheFaceXEqualsOne) {
   const Scene s = parse_scene(with_engine("grid"), "scene.json", ".");
   const geometry::TriangleMesh cube = unit_cube();
@@ -103,13 +113,7 @@ TEST(SurfaceLoads, TotalForceIsExactOnTheSelectedSurface) {
     load["force"] = {1, -10, 2};
     d["loads"]["forces"] = {load};
     const Scene s = parse_scene(d, "scene.json", ".");
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    if (std::string(engine) == "grid") {
-      sum = total(surface_load_forces(s, build_grid_setup(s).surface, "surface"));
-    } else {
-      const Eigen::VectorXd f = build_tet_setup(s).surface_forces;
-      for (Eigen::Index v = 0; v < f.size() / 3; ++v) sum += f.segment<3>(3 * v);
-    }
+    const Eigen::Vector3d sum = applied_total(engine, s);
     EXPECT_LT((sum - Eigen::Vector3d(1, -10, 2)).norm(), 1e-12) << engine;
   }
 }
@@ -153,13 +157,7 @@ TEST(SurfaceLoads, PressureOnAFaceIsPTimesArea) {
     load["normal_tolerance_degrees"] = 60;
     d["loads"]["pressures"] = {load};
     const Scene s = parse_scene(d, "scene.json", ".");
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    if (std::string(engine) == "grid") {
-      sum = total(surface_load_forces(s, build_grid_setup(s).surface, "surface"));
-    } else {
-      const Eigen::VectorXd f = build_tet_setup(s).surface_forces;
-      for (Eigen::Index v = 0; v < f.size() / 3; ++v) sum += f.segment<3>(3 * v);
-    }
+    const Eigen::Vector3d sum = applied_total(engine, s);
     // Inward: -x. The tet grid's cubes (edge 0.1) fit the face exactly.
     const double expected = -500 * 0.2 * 0.2;
     EXPECT_NEAR(sum.x(), expected, (std::string(engine) == "tet" ? 1e-12 : 0.02) * -expected)
