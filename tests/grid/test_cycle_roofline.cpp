@@ -55,7 +55,9 @@ TEST(CycleRoofline, RowsAddUpToTheCycle) {
     seconds += row.seconds;
     bytes += row.bytes;
     EXPECT_GE(row.bytes, 0.0) << row.name;
-    if (row.seconds > 0) EXPECT_DOUBLE_EQ(row.triad_fraction, row.gb_per_s / 10.0) << row.name;
+    if (row.seconds > 0) {
+      EXPECT_DOUBLE_EQ(row.triad_fraction, row.gb_per_s / 10.0) << row.name;
+    }
   }
   EXPECT_DOUBLE_EQ(table.total.bytes, bytes);
   EXPECT_NEAR(table.unattributed_seconds, table.total.seconds - seconds, 1e-12);
