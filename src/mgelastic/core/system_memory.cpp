@@ -1,5 +1,7 @@
 #include "mgelastic/core/system_memory.hpp"
 
+#include <sys/resource.h>
+
 #include <unistd.h>
 
 #include <fstream>
@@ -22,6 +24,12 @@ SystemMemory available_memory() {
     return {static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page_size),
             "physical memory (sysconf)"};
   return {};
+}
+
+std::uint64_t peak_resident_bytes() {
+  rusage usage{};
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0;
+  return static_cast<std::uint64_t>(usage.ru_maxrss) * 1024;  // kilobytes on Linux
 }
 
 }  // namespace mgelastic

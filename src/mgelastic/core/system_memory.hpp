@@ -15,4 +15,9 @@ struct SystemMemory {
 // (sysconf(_SC_PHYS_PAGES) * page size), else 0.
 SystemMemory available_memory();
 
+// The process's peak resident memory so far (getrusage's ru_maxrss), bytes; 0 if unknown.
+// Monotone over the process: benchmarks that run several sizes report it after each, smallest
+// first.
+std::uint64_t peak_resident_bytes();
+
 }  // namespace mgelastic

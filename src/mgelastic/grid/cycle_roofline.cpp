@@ -157,6 +157,14 @@ PhaseSeconds cycle_bytes(const Multigrid<Dim, Scalar>& mg) {
   bytes.coarse_solve = visits[coarsest] * (2.0 * static_cast<double>(mg.coarse_factor_bytes()) +
                                            static_cast<double>(last.size()) * F * (2 * S + kField) +
                                            traction_bytes(last));
+  if (mg.single_precision()) {
+    // The float finest level holds the solution: no refinement; the solve's start is a float
+    // copy of x (read + written).
+    const Level<Dim, Scalar>& fine = mg.finest();
+    bytes.cycle_residual = residual_bytes(fine) + norm_bytes(fine);
+    bytes.solve_setup = bytes.cycle_residual + 2 * S * F * static_cast<double>(fine.size());
+    return bytes;
+  }
   const Level<Dim, double>& solution = mg.solution_level();
   const double n = static_cast<double>(solution.size());
   double residual_and_norm = residual_bytes(solution) + norm_bytes(solution);

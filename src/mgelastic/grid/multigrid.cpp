@@ -78,6 +78,19 @@ void release_sweep_data(Level<Dim, double>& level) {
   drop_band_csr(level);
 }
 
+// x into the finest level's unknowns (rounded to float in single precision).
+template <std::size_t Fields, typename T>
+void copy_solution_state(const std::array<std::vector<double>, Fields>& x,
+                         std::array<std::vector<T>, Fields>& fields) {
+  for (std::size_t f = 0; f < Fields; ++f)
+    if (x[f].size() != fields[f].size())
+      throw Error("solution state field " + std::to_string(f) + " has " +
+                      std::to_string(x[f].size()) + " values, the finest level has " +
+                      std::to_string(fields[f].size()),
+                  {.pointer = "solution state"});
+  for (std::size_t f = 0; f < Fields; ++f) std::copy(x[f].begin(), x[f].end(), fields[f].begin());
+}
+
 // Mixed precision: the float level solves L e = r with a zero initial correction; r is already
 // in its b (residual_into). Elementwise, so the static parallel loops give the same values for
 // any thread count.
@@ -171,8 +184,7 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
       weights.pop_back();
     }
   }
-  constexpr bool mixed = !std::is_same_v<Scalar, double>;
-  if constexpr (mixed) {
+  if (mixed_precision()) {
     m_solution = std::make_unique<Level<Dim, double>>(build_level<Dim, double>(
         lattices[0], cells[0], problem.material, problem.boundary_stress,
         lattices.size() > 1 ? &cells[1] : nullptr, problem.inertia, m_options.band_layers));
@@ -192,10 +204,9 @@ void Multigrid<Dim, Scalar>::build_levels(const ElasticityProblem<Dim>& problem,
                                           const std::vector<Lattice<Dim>>& lattices,
                                           const std::vector<std::vector<CellType>>& cells,
                                           const std::vector<std::vector<double>>& weights) {
-  constexpr bool mixed = !std::is_same_v<Scalar, double>;
   m_levels.clear();
   for (std::size_t l = 0; l < lattices.size(); ++l) {
-    const bool finest = l == 0 && !mixed;
+    const bool finest = l == 0 && !mixed_precision();
     const bool coarsest = l + 1 == lattices.size();
     // Coarse levels clamp tangential corrections where the finest level does (decision 8a).
     const bool clamp = l > 0 && m_options.consistent_dirichlet_depth;
@@ -389,7 +400,7 @@ SolveReport Multigrid<Dim, Scalar>::solve(double relative_tolerance, int max_cyc
   if (!std::isfinite(report.residuals.front()))
     throw Error("the initial residual is not finite (NaN or Inf in the loads or boundary values)",
                 {.pointer = "loads"});
-  const SolutionState start = solution_state();  // for the replay of a diverging solve
+  const StartState start = capture_start();  // for the replay of a diverging solve
   m_phases.solve_setup += timer.seconds();
   const double target = relative_tolerance * report.residuals.front();
   while (report.cycles() < max_cycles && report.residuals.back() > target) {
@@ -406,10 +417,10 @@ SolveReport Multigrid<Dim, Scalar>::solve(double relative_tolerance, int max_cyc
 template <int Dim, typename Scalar>
 void Multigrid<Dim, Scalar>::fail_diverged(const std::string& what, const std::string& reason,
                                            const std::vector<double>& residuals,
-                                           const SolutionState& start) {
+                                           const StartState& start) {
   // Replay plain cycles from the solve's start, checking after every phase, until the first
   // non-finite values or as many cycles as the solve used.
-  set_solution_state(start);
+  restore_start(start);
   CycleMonitor monitor;
   m_monitor = &monitor;
   const int cycles = static_cast<int>(residuals.size()) - 1;
@@ -426,24 +437,44 @@ void Multigrid<Dim, Scalar>::fail_diverged(const std::string& what, const std::s
 }
 
 template <int Dim, typename Scalar>
+auto Multigrid<Dim, Scalar>::capture_start() const -> StartState {
+  StartState start;
+  if (single_precision()) {
+    start.single = m_levels.front().x;
+  } else {
+    start.solution = solution_state();
+  }
+  return start;
+}
+
+template <int Dim, typename Scalar>
+void Multigrid<Dim, Scalar>::restore_start(const StartState& start) {
+  if (single_precision()) {
+    m_levels.front().x = start.single;
+  } else {
+    set_solution_state(start.solution);
+  }
+}
+
+template <int Dim, typename Scalar>
 auto Multigrid<Dim, Scalar>::solution_state() const -> const SolutionState& {
   if constexpr (std::is_same_v<Scalar, double>) {
     return m_solution ? m_solution->x : m_levels.front().x;
   } else {
-    return m_solution->x;
+    if (m_solution) return m_solution->x;
+    for (int f = 0; f <= Dim; ++f)
+      m_single_state[f].assign(m_levels.front().x[f].begin(), m_levels.front().x[f].end());
+    return m_single_state;
   }
 }
 
 template <int Dim, typename Scalar>
 void Multigrid<Dim, Scalar>::set_solution_state(const SolutionState& x) {
-  Level<Dim, double>& level = solution_level();
-  for (int f = 0; f <= Dim; ++f)
-    if (x[f].size() != level.x[f].size())
-      throw Error("solution state field " + std::to_string(f) + " has " +
-                      std::to_string(x[f].size()) + " values, the finest level has " +
-                      std::to_string(level.x[f].size()),
-                  {.pointer = "solution state"});
-  level.x = x;
+  if (single_precision()) {
+    copy_solution_state(x, m_levels.front().x);
+  } else {
+    copy_solution_state(x, solution_level().x);
+  }
   m_solution_residual_current = false;
 }
 

@@ -6,6 +6,7 @@
 #include <array>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "mgelastic/grid/coarse_solver.hpp"
@@ -48,6 +49,12 @@ struct MultigridOptions {
   // prolongation; false = the paper's rediscretization, whose clamp recedes with depth.
   bool consistent_dirichlet_depth = true;
   int max_levels = 0;  // 0 = no limit
+  // Float levels only. true: mixed precision, the solution and its residual in double on a
+  // copy of the finest level (residuals far below float round-off). false: the paper's single
+  // precision, the float finest level holds the solution itself: about half the memory
+  // (no double copy of x and b) and no refinement traffic, but relative residuals stall near
+  // 1e-6 and solution_level() (time integrators, FGMRES) is unavailable.
+  bool mixed_precision = true;
 };
 
 int default_boundary_sweeps(double poisson_ratio);
@@ -115,7 +122,8 @@ class Multigrid {
 
   // All that one solve passes to the next (the warm start), for checkpoints: the finest level's
   // unknowns x in double, Dim + 1 arrays (u_0.., p) of the lattice size, Dirichlet and
-  // back-substituted traction values included. set_solution_state throws Error on other sizes.
+  // back-substituted traction values included (single precision: a double copy of the float
+  // values, rounded back by set_solution_state). set_solution_state throws Error on other sizes.
   using SolutionState = std::array<std::vector<double>, Dim + 1>;
   const SolutionState& solution_state() const;
   void set_solution_state(const SolutionState& x);
@@ -144,20 +152,34 @@ class Multigrid {
   // (the float finest level solves only corrections in mixed precision). Time integrators
   // (backward_euler.hpp) write b and the initial guess here between solves; do not keep the
   // reference across a cycle (each call marks the cached residual stale).
+  // Single precision (MultigridOptions::mixed_precision false) has none: throws Error.
   Level<Dim, double>& solution_level();
   const Level<Dim, double>& solution_level() const;  // reading does not mark it stale
+  bool single_precision() const { return !std::is_same_v<Scalar, double> && !m_solution; }
 
  private:
   void build_levels(const ElasticityProblem<Dim>& problem,
                     const std::vector<Lattice<Dim>>& lattices,
                     const std::vector<std::vector<CellType>>& cells,
                     const std::vector<std::vector<double>>& weights);
+  // Float levels with a double solution level (MultigridOptions::mixed_precision).
+  bool mixed_precision() const {
+    return !std::is_same_v<Scalar, double> && m_options.mixed_precision;
+  }
   void smooth(int l, bool pre);
   void cycle_correction();
   // Checked replay only (m_monitor set): records level l's residual norm and finiteness.
   void observe(int l, CyclePhase phase);
+  // A solve's start for the replay of a diverging solve: the double solution's x, or in single
+  // precision the float finest level's x (half the bytes of a double copy).
+  struct StartState {
+    SolutionState solution;
+    std::array<std::vector<Scalar>, Dim + 1> single;
+  };
+  StartState capture_start() const;
+  void restore_start(const StartState& start);
   [[noreturn]] void fail_diverged(const std::string& what, const std::string& reason,
-                                  const std::vector<double>& residuals, const SolutionState& start);
+                                  const std::vector<double>& residuals, const StartState& start);
   void correct(int level);
   template <typename T>
   void set_right_hand_side(const ElasticityProblem<Dim>& problem, Level<Dim, T>& level);
@@ -172,6 +194,9 @@ class Multigrid {
   // vcycle() and residual(); cleared by every access that may change them, solution_level() and
   // level() included), so the next cycle need not recompute it.
   bool m_solution_residual_current = false;
+  // Single precision only: solution_state()'s double copy of the float finest level's x, made
+  // on request (checkpoints), not kept up to date.
+  mutable SolutionState m_single_state;
   std::unique_ptr<CoarseSolver<Dim, Scalar>> m_coarse;
   MultigridOptions m_options;
   int m_boundary_sweeps = 2;

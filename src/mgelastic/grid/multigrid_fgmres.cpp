@@ -17,11 +17,8 @@ namespace mgelastic::grid {
 template <int Dim, typename Scalar>
 Level<Dim, double>& Multigrid<Dim, Scalar>::solution_level() {
   m_solution_residual_current = false;  // the caller may change x or b
-  if constexpr (std::is_same_v<Scalar, double>) {
-    return m_solution ? *m_solution : m_levels.front();
-  } else {
-    return *m_solution;
-  }
+  const auto& self = *this;
+  return const_cast<Level<Dim, double>&>(self.solution_level());
 }
 
 template <int Dim, typename Scalar>
@@ -29,6 +26,12 @@ const Level<Dim, double>& Multigrid<Dim, Scalar>::solution_level() const {
   if constexpr (std::is_same_v<Scalar, double>) {
     return m_solution ? *m_solution : m_levels.front();
   } else {
+    if (!m_solution)
+      throw Error(
+          "single precision (float-only) solves have no double solution level: time "
+          "integration, Krylov acceleration and reactions need precision 'float' (mixed) or "
+          "'double'",
+          {.pointer = "solver/precision"});
     return *m_solution;
   }
 }
@@ -109,7 +112,7 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
   const auto diverged = [&](const std::string& reason) {
     s.b = saved_b;
     fail_diverged("the accelerated solve (FGMRES) at cycle " + std::to_string(report.cycles()),
-                  reason, report.residuals, saved_x);
+                  reason, report.residuals, StartState{.solution = saved_x, .single = {}});
   };
   int cycles = 0;
   while (cycles < max_cycles && r.norm() > target) {
