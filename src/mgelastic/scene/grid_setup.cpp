@@ -5,6 +5,7 @@
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/system_memory.hpp"
 #include "mgelastic/grid/embedded_traction.hpp"
+#include "mgelastic/grid/half_cell_body_force.hpp"
 #include "mgelastic/scene/build_shape.hpp"
 #include "mgelastic/scene/grid_memory.hpp"
 #include "mgelastic/scene/render_surface.hpp"
@@ -118,6 +119,7 @@ GridSetup build_grid_setup(const Scene& scene) {
   add_surface_loads(scene, setup);
   const Eigen::Vector3d load = scene.density * scene.gravity;
   p.body_force = [load](const grid::Vec<3>&) { return grid::Vec<3>(load); };
+  if (scene.time.quasistatic) grid::add_half_cell_body_force(p);
   return setup;
 }
 
