@@ -59,23 +59,28 @@ inline void request_cancellation_at_check(std::uint64_t n) noexcept {
   cancellation_detail::request_at_check.store(cancellation_checks() + n, std::memory_order_relaxed);
 }
 
-// The time a computation may be cancelled: clears any earlier request on entry and on exit, and
-// while alive cancellation_armed() is true (Simulation::step then keeps the state to return to).
-// Scopes may nest; the request flag is shared by all of them.
+// The time a computation may be cancelled: clears any earlier request on entry and on exit. With
+// `return_to_start` (the default), cancellation_armed() is true while it lives: Simulation::step
+// then keeps a copy of the frame's start state (about 56 bytes per grid cell) to return to. A
+// program that stops for good after a cancel (the CLI: its checkpoint already holds the last
+// frame) passes false and saves the copy. Scopes may nest; the request flag is shared by all.
 class CancellationScope {
  public:
-  CancellationScope() noexcept {
+  explicit CancellationScope(bool return_to_start = true) noexcept : m_arms(return_to_start) {
     cancellation_detail::request_at_check.store(cancellation_detail::kNever);
     cancellation_detail::requested.store(false, std::memory_order_relaxed);
-    cancellation_detail::scopes.fetch_add(1, std::memory_order_relaxed);
+    if (m_arms) cancellation_detail::scopes.fetch_add(1, std::memory_order_relaxed);
   }
   ~CancellationScope() {
-    cancellation_detail::scopes.fetch_sub(1, std::memory_order_relaxed);
+    if (m_arms) cancellation_detail::scopes.fetch_sub(1, std::memory_order_relaxed);
     cancellation_detail::request_at_check.store(cancellation_detail::kNever);
     cancellation_detail::requested.store(false, std::memory_order_relaxed);
   }
   CancellationScope(const CancellationScope&) = delete;
   CancellationScope& operator=(const CancellationScope&) = delete;
+
+ private:
+  bool m_arms;
 };
 inline bool cancellation_armed() noexcept {
   return cancellation_detail::scopes.load(std::memory_order_relaxed) > 0;
