@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <nlohmann/json.hpp>
+#include <ostream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -21,6 +22,9 @@ struct Case {
   std::string name, engine, model = "linear";
   bool quasistatic = true, accelerate = true;
 };
+void PrintTo(const Case& c, std::ostream* out) {
+  *out << c.name;
+}
 
 // A 1 x 0.2 x 0.2 bar under gravity, fixed at x = -0.5, its other end keyframed (pulled), so
 // that every frame needs a solve of many cycles.
