@@ -2,6 +2,8 @@
 
 #include <csignal>
 
+#include "mgelastic/core/cancellation.hpp"
+
 namespace mgelastic::app {
 namespace {
 
@@ -9,6 +11,7 @@ volatile std::sig_atomic_t g_requested = 0;
 
 extern "C" void record_request(int signal) {
   g_requested = 1;
+  request_cancellation();        // the solve stops at its next cycle (inside a CancellationScope)
   std::signal(signal, SIG_DFL);  // the next one terminates
 }
 

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "interruption.hpp"
+#include "mgelastic/core/cancellation.hpp"
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/threads.hpp"
 #include "mgelastic/core/timer.hpp"
@@ -36,6 +37,9 @@ void run_scene(const scene::Scene& s, const std::filesystem::path& output, bool 
     return;
   }
   const InterruptionGuard guard;
+  // The guard's Ctrl-C stops the solve in progress. The run ends there, with the checkpoint of the
+  // last completed frame, so the simulation need not keep its frame's start state.
+  const CancellationScope cancellable(/*return_to_start=*/false);
   try {
     Timer timer;
     sim::Simulation simulation(s);
@@ -46,7 +50,11 @@ void run_scene(const scene::Scene& s, const std::filesystem::path& output, bool 
                   from->frame, from->time);
     }
     RunPrinter printer(s, dir, checkpoints);
-    simulation.run(printer);
+    try {
+      simulation.run(printer);
+    } catch (const Cancelled&) {
+      printer.cancelled(simulation, checkpoints);
+    }
     printer.print_summary(simulation, dir);
   } catch (const Error& e) {
     // Engine errors about the set-up (e.g. an unsupported body) name no file: it is the scene's.

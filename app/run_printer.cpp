@@ -165,6 +165,13 @@ bool RunPrinter::frame_done(const sim::Simulation& simulation, const sim::FrameS
   return go_on;
 }
 
+void RunPrinter::cancelled(const sim::Simulation& simulation, sim::RunCheckpoints& checkpoints) {
+  m_progress.finish();
+  checkpoints.save_last_good();
+  std::printf("interrupted: stopped after frame %d of %d; every written frame is complete\n",
+              simulation.frame(), simulation.frames());
+}
+
 Error RunPrinter::frame_failed(const sim::Simulation& simulation, const Error& error) {
   m_progress.finish();
   return sim::OutputObserver::frame_failed(simulation, error);

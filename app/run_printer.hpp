@@ -17,6 +17,9 @@ class RunPrinter : public sim::OutputObserver {
              sim::RunCheckpoints& checkpoints);
   bool frame_done(const sim::Simulation& simulation, const sim::FrameStats& stats) override;
   Error frame_failed(const sim::Simulation& simulation, const Error& error) override;
+  // Ctrl-C stopped a frame between two solver cycles (core/cancellation.hpp): the checkpoint file
+  // is made to hold the last completed frame (the simulation's own state is half-way).
+  void cancelled(const sim::Simulation& simulation, sim::RunCheckpoints& checkpoints);
   // The summary lines after the run.
   void print_summary(const sim::Simulation& simulation, const std::filesystem::path& dir);
 

@@ -73,6 +73,12 @@ class Simulation:
     def save(self, path: Union[str, PathLike[str]]) -> None: ...
     def set_region_pose(self, region: int, translate: Sequence[float] = (0.0, 0.0, 0.0),
                         rotate: Optional[npt.ArrayLike] = None) -> None: ...
+    def set_traction(self, index: int, traction: Sequence[float]) -> None:
+        """loads.tractions[index] applies `traction` (Pa) from the next step on."""
+    def set_pressure(self, index: int, pressure: float) -> None:
+        """loads.pressures[index] applies `pressure` (Pa, inward) from the next step on."""
+    def set_force(self, index: int, force: Sequence[float]) -> None:
+        """loads.forces[index] applies the total `force` (N) from the next step on."""
     def displacement(self) -> npt.NDArray[np.float64]:
         """grid: (nx+1, ny+1, nz+1, 3); tet: (N, 3); m."""
     def velocity(self) -> npt.NDArray[np.float64]:

@@ -1,5 +1,5 @@
 // mgelastic.Simulation over sim::Simulation (sim/simulation.hpp): stepping with the GIL released,
-// Ctrl-C between frames, fields as live numpy views (field_buffers.hpp), checkpoints.
+// Ctrl-C between solver cycles, fields as live numpy views (field_buffers.hpp), checkpoints.
 #include <pybind11/eigen.h>
 #include <pybind11/functional.h>
 #include <pybind11/numpy.h>
@@ -16,6 +16,7 @@
 #include "field_buffers.hpp"
 #include "mgelastic/core/threads.hpp"
 #include "mgelastic/sim/simulation.hpp"
+#include "sigint_cancellation.hpp"
 
 namespace py = pybind11;
 
@@ -56,19 +57,33 @@ class PySimulation {
 
   sim::Simulation& sim() { return m_sim; }
 
-  // One frame with the GIL released; then the live fields are refilled.
+  // One frame with the GIL released; then the live fields are refilled. Ctrl-C stops the solve
+  // at its next cycle (sigint_cancellation.hpp): the simulation stays at the last completed
+  // frame and Python's SIGINT handler runs (KeyboardInterrupt). A Ctrl-C after the last cycle
+  // completes the frame first.
   sim::FrameStats step() {
+    bool completed = false, interrupted = false;
     {
-      py::gil_scoped_release release;
-      set_thread_count(m_threads);
-      m_sim.step();
+      SigintCancellation sigint;
+      {
+        py::gil_scoped_release release;
+        set_thread_count(m_threads);
+        try {
+          m_sim.step();
+          completed = true;
+        } catch (const Cancelled&) {
+          // Back at the last completed frame (Simulation::step under the guard's scope).
+        }
+      }
+      interrupted = sigint.interrupted();
     }
-    m_fields.refresh();
+    if (completed) m_fields.refresh();
+    if (interrupted) SigintCancellation::deliver();
     return m_sim.stats();
   }
 
-  // Python's SIGINT handler only records the signal while C++ runs; between frames it raises
-  // KeyboardInterrupt here, leaving the simulation at the last completed frame.
+  // A SIGINT outside step()'s guard (the callback's Python code) is recorded by Python's handler;
+  // between frames it raises KeyboardInterrupt here.
   static void check_signals() {
     if (PyErr_CheckSignals() != 0) throw py::error_already_set();
   }
@@ -259,6 +274,17 @@ class PySimulation {
   FieldBuffers m_fields;
 };
 
+// A 3-vector argument `name`, or Error naming it and the shape it got.
+Eigen::Vector3d vector3(const py::object& value, const char* name) {
+  const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
+  if (!a || a.ndim() != 1 || a.shape(0) != 3) {
+    PyErr_Clear();
+    throw Error("must be 3 numbers (x, y, z), got " + std::string(py::str(py::repr(value))),
+                ErrorContext{.pointer = name});
+  }
+  return Eigen::Vector3d(a.data()[0], a.data()[1], a.data()[2]);
+}
+
 Eigen::Matrix3d rotation(const Eigen::Vector3d& axis, double degrees) {
   require(axis.norm() > 0, "axis", "must not be zero");
   return Eigen::AngleAxisd(degrees * EIGEN_PI / 180.0, axis.normalized()).toRotationMatrix();
@@ -308,14 +334,20 @@ void bind_simulation(py::module_& m) {
                   py::arg("threads") = 0,
                   "A simulation of `scene` continuing from checkpoint `path` (Simulation.save or "
                   "`mgelastic run` of the same scene and thread count).")
-      .def("step", &PySimulation::step, "Computes the next frame (GIL released); its stats.")
+      .def("step", &PySimulation::step,
+           "Computes the next frame (GIL released); its stats. Ctrl-C raises KeyboardInterrupt "
+           "at the next solver cycle; the simulation stays at the last completed frame, as if "
+           "the step had not run.")
       .def("advance_to", &PySimulation::advance_to, py::arg("time"),
-           "Steps until time >= `time` (s); Ctrl-C stops after the frame in progress.")
-      .def("run", &PySimulation::run, py::arg("frames") = py::none(),
-           py::arg("callback") = Callback{},
-           "Steps `frames` more frames (default: to the scene's last frame), calling "
-           "callback(sim, stats) after each; a callback returning False stops the run. "
-           "Ctrl-C raises KeyboardInterrupt after the frame in progress.")
+           "Steps until time >= `time` (s); Ctrl-C raises KeyboardInterrupt at the next solver "
+           "cycle, leaving the simulation at the last completed frame.")
+      .def(
+          "run", &PySimulation::run, py::arg("frames") = py::none(),
+          py::arg("callback") = Callback{},
+          "Steps `frames` more frames (default: to the scene's last frame), calling "
+          "callback(sim, stats) after each; a callback returning False stops the run. "
+          "Ctrl-C raises KeyboardInterrupt at the next solver cycle, leaving the simulation at the "
+          "last completed frame.")
       .def(
           "save", [](PySimulation& s, const std::filesystem::path& p) { s.sim().save(p); },
           py::arg("path"), "Writes a checkpoint of the last completed frame.")
@@ -328,6 +360,31 @@ void bind_simulation(py::module_& m) {
           "Constraint region `region` (index in the scene's constraints) holds the rigid pose "
           "x = R (X - pivot) + pivot + translate from the next step on, replacing its keyframes; "
           "`rotate` is a 3x3 matrix (mgelastic.rotation) or a quaternion (w, x, y, z).")
+      .def(
+          "set_traction",
+          [](PySimulation& s, std::size_t index, const py::object& traction) {
+            s.sim().set_traction(index, vector3(traction, "traction"));
+          },
+          py::arg("index"), py::arg("traction"),
+          "Load `index` of the scene's loads.tractions applies `traction` (3 numbers, Pa) from "
+          "the next step on, on the same surface. Grid engine: the next step rebuilds the solver "
+          "hierarchy first.")
+      .def(
+          "set_pressure",
+          [](PySimulation& s, std::size_t index, double pressure) {
+            s.sim().set_pressure(index, pressure);
+          },
+          py::arg("index"), py::arg("pressure"),
+          "Load `index` of the scene's loads.pressures applies `pressure` (Pa, along the inward "
+          "rest normal) from the next step on.")
+      .def(
+          "set_force",
+          [](PySimulation& s, std::size_t index, const py::object& force) {
+            s.sim().set_force(index, vector3(force, "force"));
+          },
+          py::arg("index"), py::arg("force"),
+          "Load `index` of the scene's loads.forces applies the total force `force` (3 numbers, "
+          "N, spread over its surface by area) from the next step on.")
       .def(
           "displacement",
           [](py::object self) { return self.cast<PySimulation&>().field("displacement", self); },

@@ -1,5 +1,6 @@
-"""Ctrl-C (SIGINT) during a run raises KeyboardInterrupt between frames; the simulation stays
-usable."""
+"""Ctrl-C (SIGINT) raises KeyboardInterrupt: during a run, and inside one long step, where it
+stops the solve between multigrid cycles and leaves the simulation at the last completed frame;
+the simulation stays usable."""
 import os
 import signal
 import threading
@@ -30,3 +31,49 @@ def test_sigint_interrupts_run_between_frames(cantilever):
     stats = sim.step()  # still usable: continues from the last completed frame
     assert stats.frame == done
     assert np.isfinite(sim.displacement()).all()
+
+
+def test_sigint_interrupts_a_step_between_cycles(cantilever):
+    # An unreachable tolerance: the step runs exactly max_vcycles cycles unless interrupted.
+    cantilever["solver"].update({"tolerance": 1e-30, "max_vcycles": 3000, "accelerate": False})
+    cantilever["time"] = {"dt": 0.1, "frames": 3}
+    sim = mgelastic.Simulation(mgelastic.Scene.from_dict(cantilever), threads=1)
+    before = sim.displacement().copy()
+    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        sim.step()
+    timer.join()
+    # Stopped inside frame 0: no frame completed, the fields are still the rest state.
+    assert sim.frame == 0
+    assert sim.stats.frame == -1
+    np.testing.assert_array_equal(sim.displacement(), before)
+    # Python's handler is back: a SIGINT between steps raises KeyboardInterrupt as before.
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    # Uninterrupted, the same step runs all its cycles: the interrupt came before its end.
+    stats = sim.step()
+    assert stats.frame == 0 and sim.frame == 1
+    assert stats.cycles == 3000
+    assert np.isfinite(sim.displacement()).all()
+
+
+def test_a_handler_of_the_user_runs_instead(cantilever):
+    cantilever["solver"].update({"tolerance": 1e-30, "max_vcycles": 3000, "accelerate": False})
+    sim = mgelastic.Simulation(mgelastic.Scene.from_dict(cantilever), threads=1)
+
+    class Stop(Exception):
+        pass
+
+    def handler(signum, frame):
+        raise Stop()
+
+    previous = signal.signal(signal.SIGINT, handler)
+    try:
+        timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+        timer.start()
+        with pytest.raises(Stop):
+            sim.step()
+        timer.join()
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert sim.frame == 0

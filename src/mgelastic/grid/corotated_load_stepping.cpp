@@ -7,6 +7,7 @@
 #include <cmath>
 #include <string>
 
+#include "mgelastic/core/cancellation.hpp"
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/timer.hpp"
 #include "mgelastic/grid/corotated_acceleration.hpp"
@@ -66,6 +67,7 @@ typename CorotatedMultigrid<Dim>::Attempt CorotatedMultigrid<Dim>::solve_increme
   AndersonMixing anderson(m_options.acceleration_depth);
   double residual = initial;
   for (int cycle = 0; cycle < max_cycles; ++cycle) {
+    throw_if_cancelled();
     if (residual <= target) return Attempt::CONVERGED;
     if (m_options.outer == CorotatedOuter::NEWTON_KRYLOV) {
       const int directions = std::min(m_options.rotation_update_every, max_cycles - cycle);

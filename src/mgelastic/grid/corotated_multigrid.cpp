@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <string>
 
+#include "mgelastic/core/cancellation.hpp"
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/timer.hpp"
 #include "mgelastic/grid/corotated_acceleration.hpp"
@@ -485,6 +486,7 @@ int CorotatedMultigrid<Dim>::newton_krylov_step(int directions, double target,
   };
   for (const Eigen::VectorXd& z : m_recycled) add_direction(z);
   for (int j = 0; j < directions; ++j) {
+    throw_if_cancelled();
     const Eigen::VectorXd s = combination.residual();
     const Eigen::VectorXd z = frozen_cycle_direction(x, frozen, &s);
     add_direction(z);
@@ -518,6 +520,7 @@ CorotatedReport CorotatedMultigrid<Dim>::solve(double relative_tolerance, int ma
     throw Error("the initial co-rotated residual is not finite (NaN or Inf in loads or values)");
   AndersonMixing anderson(m_options.acceleration_depth);
   for (int cycle = 0; cycle < max_cycles; ++cycle) {
+    throw_if_cancelled();
     if (initial == 0.0) {
       report.converged = true;
       break;

@@ -5,6 +5,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "mgelastic/core/cancellation.hpp"
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/timer.hpp"
 #include "mgelastic/grid/boundary_smoother.hpp"
@@ -404,6 +405,7 @@ SolveReport Multigrid<Dim, Scalar>::solve(double relative_tolerance, int max_cyc
   m_phases.solve_setup += timer.seconds();
   const double target = relative_tolerance * report.residuals.front();
   while (report.cycles() < max_cycles && report.residuals.back() > target) {
+    throw_if_cancelled();
     report.residuals.push_back(vcycle());
     const std::string reason = divergence_reason(report.residuals);
     if (!reason.empty())

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <type_traits>
 
+#include "mgelastic/core/cancellation.hpp"
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/timer.hpp"
 #include "mgelastic/grid/boundary_smoother.hpp"
@@ -124,6 +125,7 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
     g[0] = r.norm();
     int j = 0;
     for (; j < m; ++j) {
+      throw_if_cancelled();
       z.push_back(apply_preconditioner(v[j]));
       Eigen::VectorXd w = apply_operator(z[j]);
       ++cycles;

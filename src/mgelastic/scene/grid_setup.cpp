@@ -45,11 +45,12 @@ std::function<grid::Vec<3>(const grid::Vec<3>&)> dirichlet_displacement(const Gr
   };
 }
 
-namespace {
-
 // Each selected rest-surface triangle carries its share of a traction, pressure or total force
-// at its centroid (one-point quadrature; triangles are a fraction of a cell).
-void add_surface_loads(const Scene& scene, GridSetup& setup) {
+// at its centroid (one-point quadrature; triangles are a fraction of a cell). The problem holds
+// no other variable loads or boundary stresses, so both are rebuilt from scratch.
+void set_surface_loads(const Scene& scene, GridSetup& setup) {
+  setup.problem.variable_loads.clear();
+  setup.problem.boundary_stress = {};
   std::vector<grid::SurfaceForce<3>> forces;
   for (const TriangleForce& f :
        surface_load_forces(scene, setup.surface, "part of the body's surface"))
@@ -57,8 +58,6 @@ void add_surface_loads(const Scene& scene, GridSetup& setup) {
   setup.traction_triangles = forces.size();
   if (!forces.empty()) grid::apply_surface_forces(setup.problem, forces);
 }
-
-}  // namespace
 
 GridSetup build_grid_setup(const Scene& scene) {
   if (!scene.material_regions.empty())
@@ -116,7 +115,7 @@ GridSetup build_grid_setup(const Scene& scene) {
                 ErrorContext{.file = scene.file, .pointer = "/grid"});
   p.dirichlet_displacement = dirichlet_displacement(setup, 0.0);
   setup.surface = rest_surface(scene, *setup.body, v.cell_size);
-  add_surface_loads(scene, setup);
+  set_surface_loads(scene, setup);
   const Eigen::Vector3d load = scene.density * scene.gravity;
   p.body_force = [load](const grid::Vec<3>&) { return grid::Vec<3>(load); };
   if (scene.time.quasistatic) grid::add_half_cell_body_force(p);

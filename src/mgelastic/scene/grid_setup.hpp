@@ -33,6 +33,11 @@ struct GridSetup {
 // The problem's dirichlet_displacement is that of time 0.
 GridSetup build_grid_setup(const Scene& scene);
 
+// Replaces the problem's surface loads (variable loads, boundary stresses) by those of the
+// scene's loads.tractions, pressures and forces: at setup, and when a Simulation's loads change
+// between steps (the solver hierarchy is then rebuilt from the problem).
+void set_surface_loads(const Scene& scene, GridSetup& setup);
+
 // Index into Scene::constraints of the region a Dirichlet variable at x follows (the one it lies
 // deepest in).
 int constraint_at(const GridSetup& setup, const grid::Vec<3>& x);

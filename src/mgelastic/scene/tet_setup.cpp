@@ -164,9 +164,11 @@ void assign_region_materials(const Scene& scene, const geometry::TetMesh& mesh,
   }
 }
 
+}  // namespace
+
 // Surface loads lumped to the vertices of the tet mesh's boundary faces: a third of each face's
 // force to each corner.
-Eigen::VectorXd surface_forces(const Scene& scene, const geometry::TetMesh& mesh) {
+Eigen::VectorXd tet_surface_forces(const Scene& scene, const geometry::TetMesh& mesh) {
   if (scene.tractions.empty() && scene.pressures.empty() && scene.forces.empty()) return {};
   const geometry::TetMeshBoundary boundary = geometry::tet_mesh_boundary(mesh);
   geometry::TriangleMesh faces;
@@ -182,8 +184,6 @@ Eigen::VectorXd surface_forces(const Scene& scene, const geometry::TetMesh& mesh
   return forces;
 }
 
-}  // namespace
-
 TetSetup build_tet_setup(const Scene& scene) {
   if (scene.time.quasistatic && scene.constraints.empty())
     fail(scene, "/constraints",
@@ -197,7 +197,7 @@ TetSetup build_tet_setup(const Scene& scene) {
   setup.materials = tet::ElementMaterials::uniform(
       mesh.tet_count(), {scene.youngs_modulus, scene.poisson_ratio, scene.density});
   assign_region_materials(scene, mesh, setup.materials);
-  setup.surface_forces = surface_forces(scene, mesh);
+  setup.surface_forces = tet_surface_forces(scene, mesh);
 
   // Dirichlet vertices: rest positions inside a region; the first region listed claims a vertex.
   setup.vertex_constraint.assign(mesh.vertex_count(), -1);

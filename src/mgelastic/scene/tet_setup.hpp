@@ -59,4 +59,8 @@ bool is_tet_mesh_file(const std::filesystem::path& path);
 // holding no boundary face, a quasistatic scene without constraints.
 TetSetup build_tet_setup(const Scene& scene);
 
+// TetSetup::surface_forces of the scene's loads on `mesh` (also when a Simulation's loads change
+// between steps); empty when the scene has no surface loads.
+Eigen::VectorXd tet_surface_forces(const Scene& scene, const geometry::TetMesh& mesh);
+
 }  // namespace mgelastic::scene

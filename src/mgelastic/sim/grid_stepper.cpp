@@ -325,6 +325,7 @@ GridStepper::~GridStepper() = default;
 
 FrameStats GridStepper::advance_frame(int frame, double& attempt_time) {
   const scene::Scene& s = *m_scene;
+  if (m_loads_changed) reload_loads();
   FrameStats stats;
   stats.frame = frame;
   // Quasistatic: frame k shows the equilibrium at time (k + 1) dt (after the first interval),
@@ -377,6 +378,26 @@ void GridStepper::set_region_pose(std::size_t region, const Eigen::Vector3d& tra
               std::to_string(m_setup.regions.size()) + ")");
   auto& motion = m_setup.regions[region].motion;
   motion = scene::KeyframedMotion(motion.pivot(), {scene::RigidKeyframe{0.0, translate, rotate}});
+}
+
+// The loads live in the finest level's right-hand side and in its boundary rows (constants and
+// traction rules), built with the hierarchy: a new hierarchy from the reloaded problem is the one
+// way to change them that holds for all four solvers. The state crosses over as in a checkpoint.
+void GridStepper::reload_loads() {
+  io::Checkpoint state;
+  state.time = m_time;
+  save(state, {});
+  scene::set_surface_loads(*m_scene, m_setup);
+  m_loads_changed = false;
+  rebuild_from(state);
+}
+
+void GridStepper::rebuild_from(const io::Checkpoint& state) {
+  m_solver.reset();  // one hierarchy in memory at a time
+  Timer timer;
+  m_solver = make_solver(m_setup, *m_scene);
+  m_hierarchy_seconds = timer.seconds();
+  restore(state);
 }
 
 void GridStepper::invalidate() {

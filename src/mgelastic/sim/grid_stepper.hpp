@@ -47,11 +47,21 @@ class GridStepper {
   // carried state of the model/integrator (velocities "grid.v*", co-rotated state).
   void save(io::Checkpoint& c, const std::vector<io::NamedArray>& attachments) const;
   void restore(const io::Checkpoint& c);
+  // Builds the solver anew from the problem and continues from `state` (save() of this stepper):
+  // after a cancelled step (core/cancellation.hpp), whose solve may have left the hierarchy
+  // half-way (the accelerated solve's cleared right-hand side, a co-rotated load increment), the
+  // continuation is then that of a resumed checkpoint. Costs one hierarchy build.
+  void rebuild_from(const io::Checkpoint& state);
 
   // Keyframed region `region` (index in the scene's constraints) holds this rigid pose (about
   // its pivot) from now on.
   void set_region_pose(std::size_t region, const Eigen::Vector3d& translate,
                        const Eigen::Quaterniond& rotate);
+
+  // The scene's loads (tractions, pressures, forces) changed: the next step applies them. The
+  // solver hierarchy is rebuilt from the reloaded problem then (one hierarchy build), carrying
+  // the current state (unknowns, velocities, co-rotated state) over as a checkpoint does.
+  void loads_changed() { m_loads_changed = true; }
 
   const scene::GridSetup& setup() const { return m_setup; }
   bool single_precision() const;
@@ -83,10 +93,12 @@ class GridStepper {
 
  private:
   void invalidate();
+  void reload_loads();
   const scene::Scene* m_scene;
   scene::GridSetup m_setup;
   std::unique_ptr<Solver> m_solver;
   double m_setup_seconds = 0, m_hierarchy_seconds = 0, m_step_dt = 0, m_time = 0;
+  bool m_loads_changed = false;
   struct Cache;
   std::unique_ptr<Cache> m_cache;
 };

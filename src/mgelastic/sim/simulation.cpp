@@ -1,5 +1,10 @@
 #include "mgelastic/sim/simulation.hpp"
 
+#include <cmath>
+#include <optional>
+
+#include "mgelastic/core/cancellation.hpp"
+#include "mgelastic/core/error.hpp"
 #include "mgelastic/core/threads.hpp"
 #include "mgelastic/sim/run_checkpoints.hpp"
 
@@ -59,8 +64,26 @@ const TetStepper* Simulation::tet() const {
 }
 
 const FrameStats& Simulation::step() {
-  m->stats = m->grid ? m->grid->advance_frame(m->frame, m->attempt_time)
-                     : m->tet->advance_frame(m->frame, m->attempt_time);
+  // A cancelled solve leaves the engine half-way through the frame: while cancellation is armed
+  // the frame's start state is kept, as a checkpoint holds it, to return to.
+  std::optional<io::Checkpoint> start;
+  if (cancellation_armed()) {
+    start.emplace();
+    start->time = time();
+    if (m->grid) {
+      m->grid->save(*start, {});
+    } else {
+      m->tet->save(*start, {});
+    }
+  }
+  try {
+    m->stats = m->grid ? m->grid->advance_frame(m->frame, m->attempt_time)
+                       : m->tet->advance_frame(m->frame, m->attempt_time);
+  } catch (const Cancelled&) {
+    if (start && m->grid) m->grid->rebuild_from(*start);
+    if (start && m->tet) m->tet->restore(*start);
+    throw;
+  }
   ++m->frame;
   return m->stats;
 }
@@ -89,6 +112,50 @@ void Simulation::set_region_pose(std::size_t region, const Eigen::Vector3d& tran
     m->grid->set_region_pose(region, translate, rotate);
   } else {
     m->tet->set_region_pose(region, translate, rotate);
+  }
+}
+
+namespace {
+
+// The load `index` of the scene's loads.<kind>, or Error naming it and what the scene has.
+template <typename Load>
+Load& scene_load(std::vector<Load>& loads, std::size_t index, const std::string& kind,
+                 const scene::Scene& scene, bool finite) {
+  const std::string pointer = "/loads/" + kind;
+  if (index >= loads.size())
+    throw Error("no load " + std::to_string(index) + " of this kind (the scene has " +
+                    std::to_string(loads.size()) + ")",
+                ErrorContext{.file = scene.file, .pointer = pointer});
+  if (!finite)
+    throw Error("the new value of load " + std::to_string(index) + " is not finite",
+                ErrorContext{.file = scene.file, .pointer = pointer + "/" + std::to_string(index)});
+  return loads[index];
+}
+
+}  // namespace
+
+void Simulation::set_traction(std::size_t index, const Eigen::Vector3d& traction) {
+  scene_load(m->scene.tractions, index, "tractions", m->scene, traction.allFinite()).traction =
+      traction;
+  loads_changed();
+}
+
+void Simulation::set_pressure(std::size_t index, double pressure) {
+  scene_load(m->scene.pressures, index, "pressures", m->scene, std::isfinite(pressure)).pressure =
+      pressure;
+  loads_changed();
+}
+
+void Simulation::set_force(std::size_t index, const Eigen::Vector3d& force) {
+  scene_load(m->scene.forces, index, "forces", m->scene, force.allFinite()).force = force;
+  loads_changed();
+}
+
+void Simulation::loads_changed() {
+  if (m->grid) {
+    m->grid->loads_changed();
+  } else {
+    m->tet->loads_changed();
   }
 }
 

@@ -47,6 +47,9 @@ class Simulation {
   double time() const;              // of the last completed frame; 0 before the first
   const FrameStats& stats() const;  // of the last completed frame
 
+  // Computes the next frame. Cancelled (core/cancellation.hpp) stops it between two solver
+  // cycles; while a CancellationScope is alive the simulation is then back at the last completed
+  // frame, state and stats, as if the step had not run (the next step gives the same frame).
   const FrameStats& step();
   void advance_to(double time);
   // Steps until frames() or until `observer` stops the run; a failing frame throws
@@ -59,6 +62,16 @@ class Simulation {
   // + pivot + translate from the next step on, replacing its keyframes.
   void set_region_pose(std::size_t region, const Eigen::Vector3d& translate,
                        const Eigen::Quaterniond& rotate);
+
+  // Surface load `index` of the scene's loads.tractions / loads.pressures / loads.forces takes
+  // this value from the next step on (a moving load): traction Pa, pressure Pa along the inward
+  // rest normal, total force N; the selected surface stays that of the scene. scene() shows the
+  // new value; its document (and so a checkpoint's scene fingerprint) keeps the file's. Error
+  // naming /loads/<kind> when the scene has no such load or the value is not finite. Grid engine:
+  // the next step rebuilds the solver hierarchy (grid_stepper.hpp) before it solves.
+  void set_traction(std::size_t index, const Eigen::Vector3d& traction);
+  void set_pressure(std::size_t index, double pressure);
+  void set_force(std::size_t index, const Eigen::Vector3d& force);
 
   // The engine's state and fields; null for the other engine.
   const GridStepper* grid() const;
@@ -77,6 +90,7 @@ class Simulation {
  private:
   struct State;
   std::unique_ptr<State> m;
+  void loads_changed();
 };
 
 }  // namespace mgelastic::sim

@@ -150,6 +150,11 @@ void TetStepper::set_region_pose(std::size_t region, const Eigen::Vector3d& tran
   apply_motion();
 }
 
+void TetStepper::loads_changed() {
+  m_setup.surface_forces = scene::tet_surface_forces(*m_scene, m_setup.mesh);
+  m_solver->set_surface_forces(m_setup.surface_forces);
+}
+
 void TetStepper::apply_motion() {
   auto motions = std::make_shared<const std::vector<scene::KeyframedMotion>>(m_motions);
   auto owner = std::make_shared<const std::vector<int>>(m_setup.vertex_constraint);

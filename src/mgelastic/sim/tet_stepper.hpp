@@ -34,6 +34,10 @@ class TetStepper {
   void set_region_pose(std::size_t region, const Eigen::Vector3d& translate,
                        const Eigen::Quaterniond& rotate);
 
+  // The scene's loads (tractions, pressures, forces) changed: the vertex forces are recomputed
+  // and act from the next step on.
+  void loads_changed();
+
   const scene::TetSetup& setup() const { return m_setup; }
   const tet::CorotatedSolver& solver() const { return *m_solver; }
   const Eigen::VectorXd& positions() const { return m_solver->positions(); }

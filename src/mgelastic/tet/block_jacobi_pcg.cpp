@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "mgelastic/core/cancellation.hpp"
 #include "mgelastic/core/error.hpp"
 
 namespace mgelastic::tet {
@@ -157,6 +158,7 @@ PcgResult solve_pcg(const StepSystem& system, const Eigen::VectorXd& b, Eigen::V
   double rz = r.dot(z);
   std::vector<double> history;  // for the message of a failure
   for (; result.iterations < settings.max_iterations; ++result.iterations) {
+    throw_if_cancelled();
     result.relative_residual = r.norm() / b_norm;
     history.push_back(result.relative_residual);
     if (!std::isfinite(result.relative_residual))

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include "mgelastic/core/cancellation.hpp"
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/timer.hpp"
 #include "mgelastic/tet/parallel.hpp"
@@ -300,6 +301,7 @@ MultigridResult TetMultigrid::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x
   residual(b, x, r);
   result.relative_residual = b_norm > 0.0 ? r.norm() / b_norm : r.norm();
   while (result.relative_residual > tolerance && result.cycles < max_cycles) {
+    throw_if_cancelled();
     cycle(b, x);
     ++result.cycles;
     residual(b, x, r);
