@@ -5,5 +5,7 @@
 # mgelastic_cli` (build/release/app/mgelastic).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# Idle OpenMP threads sleep instead of spinning (on a busy machine spinning doubles the CPU).
+export OMP_WAIT_POLICY="${OMP_WAIT_POLICY:-passive}"
 scripts/build.sh demo mgelastic_cli >/dev/null
 exec build/demo/app/mgelastic demo "$@"
