@@ -23,6 +23,7 @@
 #include "mgelastic/grid/convergence_rate.hpp"
 #include "mgelastic/grid/cycle_roofline.hpp"
 #include "mgelastic/grid/disc_study.hpp"
+#include "mgelastic/grid/error_history.hpp"
 #include "mgelastic/grid/hypre_baseline.hpp"
 #include "mgelastic/grid/multigrid.hpp"
 #include "mgelastic/grid/nonaugmented_system.hpp"
@@ -364,6 +365,13 @@ nlohmann::json mesh_vcycle(const std::string& file, int resolution, const BoxBen
                            {"residuals", report.residuals},
                            {"rate", grid::convergence_rate(report.residuals, rate_floor(o))}};
   add_cycle_fields(record, mg, report, o.triad_gb_per_s);
+  if (o.error_history) {
+    const grid::ErrorHistory history =
+        grid::error_history<3, float>(setup.problem, options, o.cycles);
+    record["error_history"] = history.relative_error;
+    record["error_rate"] = grid::convergence_rate(history.relative_error, 1e-8);
+    record["reference_relative_residual"] = history.reference_residual;
+  }
   return record;
 }
 
@@ -408,6 +416,19 @@ void print_profile_summary(const nlohmann::json& records, const BoxBenchOptions&
   for (const auto& r : records) std::printf(" | %9.4f", r["vcycle_seconds"].get<double>());
   std::printf("\n%-20s", "rate");
   for (const auto& r : records) std::printf(" | %9.3f", r["rate"].get<double>());
+  if (std::any_of(records.begin(), records.end(),
+                  [](const auto& r) { return r.contains("error_history"); })) {
+    // Relative error against the converged solution: first cycle's ratio and the rate.
+    std::printf("\n%-20s", "error, cycle 1");
+    for (const auto& r : records)
+      r.contains("error_history")
+          ? (void)std::printf(" | %9.3f", r["error_history"][1].get<double>())
+          : (void)std::printf(" | %9s", "-");
+    std::printf("\n%-20s", "error rate");
+    for (const auto& r : records)
+      r.contains("error_rate") ? (void)std::printf(" | %9.3f", r["error_rate"].get<double>())
+                               : (void)std::printf(" | %9s", "-");
+  }
   std::printf("\n%-20s", "working set (MB)");
   for (const auto& r : records) std::printf(" | %9.1f", r["working_set_bytes"].get<double>() / 1e6);
   std::printf("\n%-20s", "peak RSS (MB)");
@@ -767,6 +788,10 @@ void register_bench_commands(CLI::App& app) {
                      "Surface meshes to profile as well (voxelized, lowest 5 % fixed, gravity)");
   vcycle->add_option("--resolution", profile_resolution,
                      "Cells along the longest axis of each --mesh");
+  vcycle->add_flag("--error-history", profile_options.error_history,
+                   "For each --mesh also the error per cycle against the converged solution "
+                   "(a double solve to 1e-10; the residual of a zero start can grow while the "
+                   "error falls)");
   vcycle->callback([] {
     std::vector<int> sizes = profile_sizes;  // --sizes 0: meshes only
     std::erase_if(sizes, [](int n) { return n <= 0; });

@@ -17,6 +17,8 @@ struct BoxBenchOptions {
   int boundary_sweeps = 0;
   std::string cycle = "V";
   bool json = false;
+  // bench vcycle --mesh: also the error history against the converged solution (error_history.hpp)
+  bool error_history = false;
   int threads = 0;
   // bench cg: leave out the unpreconditioned CG (minutes at 128^3), keep hypre and multigrid.
   bool skip_cg = false;
