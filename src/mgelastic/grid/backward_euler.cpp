@@ -141,6 +141,13 @@ void BackwardEuler<Dim, Scalar>::set_velocity(const VectorField& velocity) {
 }
 
 template <int Dim, typename Scalar>
+void BackwardEuler<Dim, Scalar>::set_loads(ElasticityProblem<Dim> problem) {
+  m_multigrid.set_loads(with_inertia(std::move(problem), m_inertia));
+  // set_loads leaves the static right-hand side in b; each step builds its own b from it.
+  m_static_rhs = m_multigrid.solution_level().b;
+}
+
+template <int Dim, typename Scalar>
 void BackwardEuler<Dim, Scalar>::assemble_right_hand_side(Level<Dim, double>& level) {
   if (m_options.damping > 0) {
     for (auto& b : level.b) std::fill(b.begin(), b.end(), 0.0);

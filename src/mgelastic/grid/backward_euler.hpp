@@ -90,6 +90,10 @@ class BackwardEuler {
   // Advances one step to time() + dt. `dirichlet` is the prescribed displacement at the new
   // time (empty: the Dirichlet values stay). Throws mgelastic::Error if the step diverges.
   SolveReport step(const VectorField& dirichlet = {});
+  // The loads of `problem` (body force, boundary stresses, variable loads) act from the next
+  // step on, without a hierarchy build (Multigrid::set_loads); the rest of `problem` must be the
+  // constructor's. Displacement, velocity and clock carry on.
+  void set_loads(ElasticityProblem<Dim> problem);
 
   double time() const { return m_time; }
   void set_time(double time) { m_time = time; }

@@ -12,6 +12,7 @@
 #include "mgelastic/grid/coarsening.hpp"
 #include "mgelastic/grid/distributive_smoother.hpp"
 #include "mgelastic/grid/fill_weights.hpp"
+#include "mgelastic/grid/load_update.hpp"
 #include "mgelastic/grid/problem_validation.hpp"
 #include "mgelastic/grid/residual.hpp"
 #include "mgelastic/grid/transfer.hpp"
@@ -191,11 +192,11 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
         lattices.size() > 1 ? &cells[1] : nullptr, problem.inertia, m_options.band_layers));
     release_sweep_data(*m_solution);
     set_dirichlet_values(*m_solution, problem.dirichlet_displacement);
-    set_right_hand_side(problem, *m_solution);
+    write_load_right_hand_side(problem, *m_solution);
     back_substitute_traction(*m_solution);
   } else {
     set_dirichlet_values(m_levels.front(), problem.dirichlet_displacement);
-    set_right_hand_side(problem, m_levels.front());
+    write_load_right_hand_side(problem, m_levels.front());
     back_substitute_traction(m_levels.front());
   }
 }
@@ -235,6 +236,16 @@ void Multigrid<Dim, Scalar>::set_dirichlet_displacement(
 }
 
 template <int Dim, typename Scalar>
+void Multigrid<Dim, Scalar>::set_loads(const ElasticityProblem<Dim>& problem) {
+  if (m_solution) {
+    replace_loads(*m_solution, problem);
+  } else {
+    replace_loads(m_levels.front(), problem);
+  }
+  m_solution_residual_current = false;
+}
+
+template <int Dim, typename Scalar>
 std::size_t Multigrid<Dim, Scalar>::bytes() const {
   std::size_t total = m_solution ? m_solution->bytes() : 0;
   for (const auto& level : m_levels) total += level.bytes();
@@ -259,22 +270,6 @@ std::vector<ByteShare> Multigrid<Dim, Scalar>::byte_breakdown() const {
 template <int Dim, typename Scalar>
 double Multigrid<Dim, Scalar>::solution(int field, std::ptrdiff_t k) const {
   return m_solution ? m_solution->x[field][k] : static_cast<double>(m_levels.front().x[field][k]);
-}
-
-template <int Dim, typename Scalar>
-template <typename T>
-void Multigrid<Dim, Scalar>::set_right_hand_side(const ElasticityProblem<Dim>& problem,
-                                                 Level<Dim, T>& fine) {
-  for (const VariableLoad& load : problem.variable_loads)
-    fine.b[load.component][load.face] -= static_cast<T>(load.density);
-  if (!problem.body_force) return;
-  // L u = div P = -f: the right-hand side of the momentum rows is minus the body force.
-  for (int i = 0; i < Dim; ++i) {
-    for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(fine.size()); ++k) {
-      if (fine.kind[i][k] == VarKind::INTERIOR)
-        fine.b[i][k] -= static_cast<T>(problem.body_force(fine.lattice.face_center(i, k))[i]);
-    }
-  }
 }
 
 template <int Dim, typename Scalar>

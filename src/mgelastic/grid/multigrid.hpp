@@ -105,6 +105,13 @@ class Multigrid {
   // Replaces the prescribed displacement of the Dirichlet variables (a keyframed region's next
   // frame), keeping the current solution elsewhere as the warm start of the next solve.
   void set_dirichlet_displacement(const std::function<Vec<Dim>(const Vec<Dim>&)>& displacement);
+  // Replaces the loads (boundary_stress, variable_loads, body_force) by those of `problem`
+  // without a hierarchy build (load_update.hpp): the level that holds them (solution_level() in
+  // mixed precision, else the finest) gets the new traction values and b; the Dirichlet values
+  // and the current solution stay as the warm start. Its other members must be those of the
+  // built problem (throws Error otherwise). Time integrators rewrite b each step: they take the
+  // new static b from here (BackwardEuler::set_loads).
+  void set_loads(const ElasticityProblem<Dim>& problem);
 
   double residual();  // recomputes the finest residual norm
   double vcycle();    // one V(1,1) cycle; returns the residual norm after it
@@ -181,8 +188,6 @@ class Multigrid {
   [[noreturn]] void fail_diverged(const std::string& what, const std::string& reason,
                                   const std::vector<double>& residuals, const StartState& start);
   void correct(int level);
-  template <typename T>
-  void set_right_hand_side(const ElasticityProblem<Dim>& problem, Level<Dim, T>& level);
 
   std::vector<Level<Dim, Scalar>> m_levels;
   // Single precision runs as mixed-precision iterative refinement: the solution and its

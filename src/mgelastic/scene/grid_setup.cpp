@@ -57,6 +57,8 @@ void set_surface_loads(const Scene& scene, GridSetup& setup) {
     forces.push_back({f.centroid, f.force, f.normal});
   setup.traction_triangles = forces.size();
   if (!forces.empty()) grid::apply_surface_forces(setup.problem, forces);
+  // The half cells' weight wraps the stresses: again after each load change, which replaces them.
+  if (scene.time.quasistatic) grid::add_half_cell_body_force(setup.problem);
 }
 
 GridSetup build_grid_setup(const Scene& scene) {
@@ -115,10 +117,9 @@ GridSetup build_grid_setup(const Scene& scene) {
                 ErrorContext{.file = scene.file, .pointer = "/grid"});
   p.dirichlet_displacement = dirichlet_displacement(setup, 0.0);
   setup.surface = rest_surface(scene, *setup.body, v.cell_size);
-  set_surface_loads(scene, setup);
   const Eigen::Vector3d load = scene.density * scene.gravity;
   p.body_force = [load](const grid::Vec<3>&) { return grid::Vec<3>(load); };
-  if (scene.time.quasistatic) grid::add_half_cell_body_force(p);
+  set_surface_loads(scene, setup);  // after the body force: it wraps the half-cell term around
   return setup;
 }
 

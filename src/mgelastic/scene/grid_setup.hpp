@@ -35,7 +35,9 @@ GridSetup build_grid_setup(const Scene& scene);
 
 // Replaces the problem's surface loads (variable loads, boundary stresses) by those of the
 // scene's loads.tractions, pressures and forces: at setup, and when a Simulation's loads change
-// between steps (the solver hierarchy is then rebuilt from the problem).
+// between steps (GridStepper hands the problem to the solver then). Quasistatic scenes get the
+// half-cell body-force term around the new stresses (half_cell_body_force.hpp), as at setup; the
+// body force must be set before.
 void set_surface_loads(const Scene& scene, GridSetup& setup);
 
 // Index into Scene::constraints of the region a Dirichlet variable at x follows (the one it lies

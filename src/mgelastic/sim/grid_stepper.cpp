@@ -128,6 +128,9 @@ class GridStepper::Solver {
   virtual double solution(int field, std::ptrdiff_t k) const = 0;
   virtual std::array<std::vector<double>, 4> unknowns_state() const = 0;
   virtual void set_unknowns_state(const std::array<std::vector<double>, 4>& x) = 0;
+  // Takes the problem's new loads in place (Multigrid::set_loads); false where the model cannot
+  // (the stepper then rebuilds the solver).
+  virtual bool set_loads(const grid::ElasticityProblem<3>&) { return false; }
 };
 
 namespace {
@@ -183,6 +186,10 @@ class LinearStatic final : public HierarchySolver<Scalar> {
   }
   std::size_t bytes() const override { return m_mg.bytes(); }
   const grid::Level<3, double>* linear_solution() const override { return &m_mg.solution_level(); }
+  bool set_loads(const grid::ElasticityProblem<3>& problem) override {
+    m_mg.set_loads(problem);
+    return true;
+  }
 
  protected:
   grid::Multigrid<3, Scalar>& hierarchy() override { return m_mg; }
@@ -221,6 +228,10 @@ class LinearDynamic final : public Dynamic<grid::BackwardEuler<3, Scalar>, Scala
     return linear_stats(this->m_sim.step(dirichlet));
   }
   double inertia() const override { return this->m_sim.inertia(); }
+  bool set_loads(const grid::ElasticityProblem<3>& problem) override {
+    this->m_sim.set_loads(problem);
+    return true;
+  }
   void save_carried(io::Checkpoint& c) const override { add_velocity(c, this->m_sim.velocity()); }
   void restore_carried(const io::Checkpoint& c) override {
     restore_velocity(c, this->m_sim.velocity());
@@ -381,15 +392,24 @@ void GridStepper::set_region_pose(std::size_t region, const Eigen::Vector3d& tra
 }
 
 // The loads live in the finest level's right-hand side and in its boundary rows (constants and
-// traction rules), built with the hierarchy: a new hierarchy from the reloaded problem is the one
-// way to change them that holds for all four solvers. The state crosses over as in a checkpoint.
+// traction rules): the linear models replace them in place (Multigrid::set_loads, no hierarchy
+// build). The co-rotated solver keeps the problem's boundary stresses (and their load-stepping
+// scale, corotated_multigrid.hpp) and folds them into its rotated rows at every rotation refresh
+// (corotated_operator.cpp), so it gets a new solver from the reloaded problem; the state crosses
+// over as in a checkpoint.
 void GridStepper::reload_loads() {
+  scene::set_surface_loads(*m_scene, m_setup);
+  m_loads_changed = false;
+  Timer timer;
+  if (m_solver->set_loads(m_setup.problem)) {
+    m_load_update_seconds = timer.seconds();
+    return;
+  }
   io::Checkpoint state;
   state.time = m_time;
   save(state, {});
-  scene::set_surface_loads(*m_scene, m_setup);
-  m_loads_changed = false;
   rebuild_from(state);
+  m_load_update_seconds = timer.seconds();
 }
 
 void GridStepper::rebuild_from(const io::Checkpoint& state) {

@@ -59,8 +59,10 @@ class GridStepper {
                        const Eigen::Quaterniond& rotate);
 
   // The scene's loads (tractions, pressures, forces) changed: the next step applies them. The
-  // solver hierarchy is rebuilt from the reloaded problem then (one hierarchy build), carrying
-  // the current state (unknowns, velocities, co-rotated state) over as a checkpoint does.
+  // linear models replace the loads in their hierarchy (Multigrid::set_loads: boundary values
+  // and right-hand side, no rebuild); the co-rotated model rebuilds its solver from the
+  // reloaded problem (one hierarchy build), carrying the current state (unknowns, co-rotated
+  // state, velocities) over as a checkpoint does.
   void loads_changed() { m_loads_changed = true; }
 
   const scene::GridSetup& setup() const { return m_setup; }
@@ -86,6 +88,8 @@ class GridStepper {
   const grid::PhaseSeconds& phase_seconds() const;
   double hierarchy_seconds() const { return m_hierarchy_seconds; }
   double setup_seconds() const { return m_setup_seconds; }
+  // Seconds the last load change took (reloaded loads into the solver, or its rebuild).
+  double load_update_seconds() const { return m_load_update_seconds; }
   double inertia() const;  // backward Euler c (N/m^4), 0 quasistatic
   double step_dt() const { return m_step_dt; }
 
@@ -98,6 +102,7 @@ class GridStepper {
   scene::GridSetup m_setup;
   std::unique_ptr<Solver> m_solver;
   double m_setup_seconds = 0, m_hierarchy_seconds = 0, m_step_dt = 0, m_time = 0;
+  double m_load_update_seconds = 0;
   bool m_loads_changed = false;
   struct Cache;
   std::unique_ptr<Cache> m_cache;

@@ -68,7 +68,8 @@ class Simulation {
   // rest normal, total force N; the selected surface stays that of the scene. scene() shows the
   // new value; its document (and so a checkpoint's scene fingerprint) keeps the file's. Error
   // naming /loads/<kind> when the scene has no such load or the value is not finite. Grid engine:
-  // the next step rebuilds the solver hierarchy (grid_stepper.hpp) before it solves.
+  // the next step first replaces the loads in the solver hierarchy (linear model, no rebuild) or
+  // rebuilds it (co-rotated model), GridStepper::loads_changed.
   void set_traction(std::size_t index, const Eigen::Vector3d& traction);
   void set_pressure(std::size_t index, double pressure);
   void set_force(std::size_t index, const Eigen::Vector3d& force);
