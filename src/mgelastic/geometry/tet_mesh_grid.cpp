@@ -26,7 +26,7 @@ struct Lattice {
   Eigen::Vector3d point(int i, int j, int k) const { return origin + h * Eigen::Vector3d(i, j, k); }
 };
 
-Lattice make_lattice(const Eigen::AlignedBox3d& bbox, double cell_size) {
+Lattice make_cube_lattice(const Eigen::AlignedBox3d& bbox, double cell_size) {
   if (!(cell_size > 0.0) || !std::isfinite(cell_size))
     throw Error("cell size must be positive", ErrorContext{std::string(), -1, "cell_size"});
   if (bbox.isEmpty() || !bbox.min().allFinite() || !bbox.max().allFinite())
@@ -57,7 +57,7 @@ bool keep_cube(const Lattice& lattice, const InsidePredicate& inside, int i, int
 
 RegularTetGrid regular_tet_grid(const InsidePredicate& inside, const Eigen::AlignedBox3d& bbox,
                                 double cell_size, CubeSelection selection) {
-  const Lattice lattice = make_lattice(bbox, cell_size);
+  const Lattice lattice = make_cube_lattice(bbox, cell_size);
   std::vector<int> compact(
       lattice.point_id(lattice.cells.x(), lattice.cells.y(), lattice.cells.z()) + 1, -1);
   std::vector<Eigen::Vector3i> grid_points;

@@ -12,7 +12,7 @@
 namespace mgelastic::scene {
 namespace {
 
-Eigen::Vector3d vec3(const nlohmann::json& v) {
+Eigen::Vector3d scene_vec3(const nlohmann::json& v) {
   return {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
 }
 
@@ -38,7 +38,7 @@ Scene::Constraint parse_constraint(const nlohmann::json& c, const std::string& f
                 ErrorContext{.file = file, .pointer = at + "/keyframes"});
   std::vector<RigidKeyframe> frames;
   for (std::size_t k = 0; k < keys.size(); ++k) {
-    const Eigen::Vector3d axis = vec3(keys[k]["rotate_axis"]);
+    const Eigen::Vector3d axis = scene_vec3(keys[k]["rotate_axis"]);
     const double degrees = keys[k]["rotate_degrees"];
     if (degrees != 0 && axis.norm() == 0)
       throw Error("rotation axis must not be zero",
@@ -52,9 +52,9 @@ Scene::Constraint parse_constraint(const nlohmann::json& c, const std::string& f
         degrees == 0
             ? Eigen::Quaterniond::Identity()
             : Eigen::Quaterniond(Eigen::AngleAxisd(degrees * M_PI / 180, axis.normalized()));
-    frames.push_back({time, vec3(keys[k]["translate"]), q});
+    frames.push_back({time, scene_vec3(keys[k]["translate"]), q});
   }
-  constraint.motion = KeyframedMotion(vec3(c["pivot"]), std::move(frames));
+  constraint.motion = KeyframedMotion(scene_vec3(c["pivot"]), std::move(frames));
   return constraint;
 }
 
@@ -75,7 +75,7 @@ std::vector<Scene::Probe> parse_probes(const nlohmann::json& probes, const std::
       if (earlier.name == name)
         throw Error("probe name \"" + name + "\" is used twice",
                     ErrorContext{.file = file, .pointer = pointer});
-    out.push_back({name, vec3(probes[i]["point"])});
+    out.push_back({name, scene_vec3(probes[i]["point"])});
   }
   return out;
 }
@@ -103,22 +103,23 @@ Scene parse_scene(const nlohmann::json& document, const std::string& file,
         {m["region"], m["youngs_modulus"], m["poisson_ratio"], m["density"]});
   for (std::size_t c = 0; c < d["constraints"].size(); ++c)
     s.constraints.push_back(parse_constraint(d["constraints"][c], file, c));
-  s.gravity = vec3(d["loads"]["gravity"]);
+  s.gravity = scene_vec3(d["loads"]["gravity"]);
   const auto selection = [](const nlohmann::json& load) {
-    return Scene::SurfaceSelection{load["region"], vec3(load["normal"]),
+    return Scene::SurfaceSelection{load["region"], scene_vec3(load["normal"]),
                                    load["normal_tolerance_degrees"]};
   };
   for (const auto& t : d["loads"]["tractions"])
-    s.tractions.push_back({selection(t), vec3(t["traction"])});
+    s.tractions.push_back({selection(t), scene_vec3(t["traction"])});
   for (const auto& p : d["loads"]["pressures"])
     s.pressures.push_back({selection(p), p["pressure"]});
-  for (const auto& f : d["loads"]["forces"]) s.forces.push_back({selection(f), vec3(f["force"])});
+  for (const auto& f : d["loads"]["forces"])
+    s.forces.push_back({selection(f), scene_vec3(f["force"])});
   const nlohmann::json& t = d["time"];
   s.time = {t["dt"],         t["frames"],  t["substeps"],    t["quasistatic"],
             t["integrator"], t["damping"], t["mass_damping"]};
   s.time.vcycles_per_step = t["vcycles_per_step"];
   s.time.rotation_update_every = t["rotation_update_every"];
-  s.initial_velocity = vec3(d["initial"]["velocity"]);
+  s.initial_velocity = scene_vec3(d["initial"]["velocity"]);
   const nlohmann::json& tet = d["tet"];
   s.tet = {tet["rotation"],       tet["resolution"], tet["linear_solver"], tet["tolerance"],
            tet["max_iterations"], tet["vcycles"],    tet["smoother"]};

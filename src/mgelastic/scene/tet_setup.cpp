@@ -21,7 +21,7 @@
 namespace mgelastic::scene {
 namespace {
 
-Eigen::Vector3d vec3(const nlohmann::json& v) {
+Eigen::Vector3d transform_vec3(const nlohmann::json& v) {
   return {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
 }
 
@@ -39,7 +39,7 @@ std::string format_length(double value) {
 // Same map as geometry::make_transformed: x -> translate + R(axis, degrees) (scale x). A proper
 // rotation and a positive scale keep every tetrahedron positively oriented.
 void apply_transform(const nlohmann::json& t, geometry::TetMesh& mesh) {
-  const Eigen::Vector3d axis = vec3(t["rotate_axis"]);
+  const Eigen::Vector3d axis = transform_vec3(t["rotate_axis"]);
   const double degrees = t["rotate_degrees"];
   const Eigen::Matrix3d rotation =
       degrees != 0.0 && axis.norm() > 0.0
@@ -47,7 +47,7 @@ void apply_transform(const nlohmann::json& t, geometry::TetMesh& mesh) {
                 .toRotationMatrix()
           : Eigen::Matrix3d::Identity();
   const Eigen::Matrix3d linear = rotation * t["scale"].get<double>();
-  const Eigen::RowVector3d translate = vec3(t["translate"]).transpose();
+  const Eigen::RowVector3d translate = transform_vec3(t["translate"]).transpose();
   mesh.vertices = (mesh.vertices * linear.transpose()).rowwise() + translate;
 }
 

@@ -14,7 +14,7 @@ namespace {
 // (12 residual rows and two 36 x 36 substitutions), so the threshold is lower than the smoother's.
 constexpr int kMinParallelPatches = 256;
 
-[[noreturn]] void fail(const std::string& reason) {
+[[noreturn]] void fail_feature_patches(const std::string& reason) {
   throw Error(reason, ErrorContext{std::string(), -1, "FeaturePatches"});
 }
 
@@ -46,11 +46,11 @@ using Block = Eigen::Map<const Eigen::Matrix3d>;
 FeaturePatches::FeaturePatches(const geometry::TetMesh& mesh, const std::vector<char>& constrained,
                                const BlockRowMatrix<double>& pattern,
                                const FeaturePatchSettings& settings) {
-  if (settings.max_size < 1) fail("max_size must be >= 1");
+  if (settings.max_size < 1) fail_feature_patches("max_size must be >= 1");
   if (pattern.block_rows() != mesh.vertex_count() ||
       static_cast<int>(constrained.size()) != mesh.vertex_count())
-    fail("pattern or constraints do not match the mesh's " + std::to_string(mesh.vertex_count()) +
-         " vertices");
+    fail_feature_patches("pattern or constraints do not match the mesh's " +
+                         std::to_string(mesh.vertex_count()) + " vertices");
   if (settings.max_valence <= 0) return;
   // Selection: a patch around every free vertex in <= max_valence tets.
   std::vector<int> valence(mesh.vertex_count(), 0);
@@ -148,16 +148,19 @@ FeaturePatches::FeaturePatches(const std::vector<std::vector<int>>& patches,
                                const std::vector<char>& constrained,
                                const BlockRowMatrix<double>& pattern) {
   const int n = static_cast<int>(constrained.size());
-  if (pattern.block_rows() != n) fail("pattern and constraints differ in their vertex counts");
+  if (pattern.block_rows() != n)
+    fail_feature_patches("pattern and constraints differ in their vertex counts");
   for (const std::vector<int>& patch : patches) {
-    if (patch.empty()) fail("empty patch");
+    if (patch.empty()) fail_feature_patches("empty patch");
     for (std::size_t i = 0; i < patch.size(); ++i) {
       const int v = patch[i];
-      if (v < 0 || v >= n) fail("patch vertex " + std::to_string(v) + " out of range");
-      if (constrained[v] != 0) fail("patch vertex " + std::to_string(v) + " is constrained");
+      if (v < 0 || v >= n)
+        fail_feature_patches("patch vertex " + std::to_string(v) + " out of range");
+      if (constrained[v] != 0)
+        fail_feature_patches("patch vertex " + std::to_string(v) + " is constrained");
       if (std::find(patch.begin(), patch.begin() + static_cast<std::ptrdiff_t>(i), v) !=
           patch.begin() + static_cast<std::ptrdiff_t>(i))
-        fail("patch vertex " + std::to_string(v) + " repeated");
+        fail_feature_patches("patch vertex " + std::to_string(v) + " repeated");
     }
   }
   build(patches, pattern);
@@ -205,8 +208,9 @@ void FeaturePatches::factor(const BlockRowMatrix<double>& a) {
     }
   }
   if (failed < patches)
-    fail("patch around vertex " + std::to_string(m_vertices[m_vertex_offsets[failed]]) +
-         " is not positive definite");
+    fail_feature_patches("patch around vertex " +
+                         std::to_string(m_vertices[m_vertex_offsets[failed]]) +
+                         " is not positive definite");
 }
 
 void FeaturePatches::solve_patch(int p, const BlockRowMatrix<double>& a, const Eigen::VectorXd& b,

@@ -12,14 +12,14 @@
 namespace mgelastic::tet {
 namespace {
 
-[[noreturn]] void fail(const std::string& reason) {
+[[noreturn]] void fail_galerkin(const std::string& reason) {
   throw Error(reason, ErrorContext{std::string(), -1, "Galerkin product"});
 }
 
 void check_sizes(const BlockRowMatrix<double>& fine, const Prolongation& p) {
   if (fine.block_rows() != p.fine_vertex_count())
-    fail("prolongation has " + std::to_string(p.fine_vertex_count()) + " fine vertices, matrix " +
-         std::to_string(fine.block_rows()) + " block rows");
+    fail_galerkin("prolongation has " + std::to_string(p.fine_vertex_count()) +
+                  " fine vertices, matrix " + std::to_string(fine.block_rows()) + " block rows");
 }
 
 // Pairs ahead whose destination block the walk prefetches, on coarse matrices of at least
@@ -72,7 +72,7 @@ void galerkin_naive(const BlockRowMatrix<double>& fine, const Prolongation& p,
         for (int t = 0; t < 4; ++t) {
           if (p.weights[j][t] == 0.0) continue;
           const int e = coarse.find(p.vertices[i][s], p.vertices[j][t]);
-          if (e < 0) fail("coarse pattern misses a block of P^T K P");
+          if (e < 0) fail_galerkin("coarse pattern misses a block of P^T K P");
           coarse.block(e) += (p.weights[i][s] * p.weights[j][t]) * fine.block(k);
         }
       }
@@ -89,7 +89,8 @@ GalerkinStream::GalerkinStream(const BlockRowMatrix<double>& fine, const Prolong
                                const BlockRowMatrix<double>& coarse, int streams)
     : m_fine_blocks(fine.block_count()), m_coarse_blocks(coarse.block_count()) {
   check_sizes(fine, p);
-  if (coarse.block_rows() != p.coarse_vertex_count) fail("coarse matrix size differs from P");
+  if (coarse.block_rows() != p.coarse_vertex_count)
+    fail_galerkin("coarse matrix size differs from P");
 #ifdef _OPENMP
   if (streams <= 0) streams = omp_get_max_threads();
 #endif
@@ -169,21 +170,21 @@ GalerkinStream::GalerkinStream(const BlockRowMatrix<double>& fine, const Prolong
     stream.weights.shrink_to_fit();
     stream.destinations.shrink_to_fit();
   }
-  if (missing != 0) fail("coarse pattern misses a block of P^T K P");
+  if (missing != 0) fail_galerkin("coarse pattern misses a block of P^T K P");
   m_mirror.assign(m_coarse_blocks, -1);
   for (int a = 0; a < nc; ++a)
     for (int e = coarse.row_offsets()[a]; e < coarse.row_offsets()[a + 1]; ++e) {
       const int b = coarse.block_columns()[e];
       if (b >= a) continue;
       m_mirror[e] = coarse.find(b, a);
-      if (m_mirror[e] < 0) fail("coarse pattern is not symmetric");
+      if (m_mirror[e] < 0) fail_galerkin("coarse pattern is not symmetric");
     }
 }
 
 void GalerkinStream::update(const BlockRowMatrix<double>& fine,
                             BlockRowMatrix<double>& coarse) const {
   if (fine.block_count() != m_fine_blocks || coarse.block_count() != m_coarse_blocks)
-    fail("matrices differ from the patterns the streams were built for");
+    fail_galerkin("matrices differ from the patterns the streams were built for");
   const int streams = stream_count();
   const bool prefetch =
       static_cast<std::size_t>(m_coarse_blocks) * sizeof(Eigen::Matrix3d) >= kPrefetchBytes;

@@ -10,7 +10,7 @@
 namespace mgelastic::tet {
 namespace {
 
-[[noreturn]] void fail(const std::string& reason) {
+[[noreturn]] void fail_patch_seeds(const std::string& reason) {
   throw Error(reason, ErrorContext{std::string(), -1, "patch_seeds"});
 }
 
@@ -23,8 +23,8 @@ std::vector<int> slow_error_seeds(const Eigen::VectorXd& e, const BlockRowMatrix
   const int n = pattern.block_rows();
   if (e.size() != 3 * static_cast<Eigen::Index>(n) || static_cast<int>(constrained.size()) != n ||
       static_cast<int>(excluded.size()) != n)
-    fail("error, constraints or exclusions do not match the pattern's " + std::to_string(n) +
-         " block rows");
+    fail_patch_seeds("error, constraints or exclusions do not match the pattern's " +
+                     std::to_string(n) + " block rows");
   std::vector<double> weight(n);
   double largest = 0.0;
   for (int v = 0; v < n; ++v) {
@@ -59,7 +59,8 @@ std::vector<std::vector<int>> grow_along_error(const std::vector<int>& seeds,
                                                const std::vector<char>& constrained, int max_size) {
   const int n = pattern.block_rows();
   if (e.size() != 3 * static_cast<Eigen::Index>(n) || static_cast<int>(constrained.size()) != n)
-    fail("error or constraints do not match the pattern's " + std::to_string(n) + " block rows");
+    fail_patch_seeds("error or constraints do not match the pattern's " + std::to_string(n) +
+                     " block rows");
   std::vector<std::vector<int>> patches;
   std::vector<char> member(n, 0);
   for (const int seed : seeds) {
@@ -100,7 +101,7 @@ SlowError slow_error(int vertex_count, const std::vector<char>& constrained,
                      const std::function<void(Eigen::VectorXd&)>& apply_error, int cycles,
                      unsigned random_seed) {
   if (static_cast<int>(constrained.size()) != vertex_count)
-    fail("constraints do not match the " + std::to_string(vertex_count) + " vertices");
+    fail_patch_seeds("constraints do not match the " + std::to_string(vertex_count) + " vertices");
   std::mt19937 rng(random_seed);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
   SlowError slow;

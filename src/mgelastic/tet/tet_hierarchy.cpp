@@ -14,7 +14,7 @@
 namespace mgelastic::tet {
 namespace {
 
-[[noreturn]] void fail(const std::string& reason) {
+[[noreturn]] void fail_hierarchy(const std::string& reason) {
   throw Error(reason, ErrorContext{std::string(), -1, "TetHierarchy"});
 }
 
@@ -288,13 +288,13 @@ double mean_edge_length(const geometry::TetMesh& mesh) {
 
 TetHierarchy::TetHierarchy(const geometry::TetMesh& fine, const std::vector<char>& constrained,
                            const TetHierarchySettings& settings) {
-  if (fine.tet_count() == 0) fail("empty mesh");
+  if (fine.tet_count() == 0) fail_hierarchy("empty mesh");
   if (!constrained.empty() && static_cast<int>(constrained.size()) != fine.vertex_count())
-    fail("constraint vector has " + std::to_string(constrained.size()) + " entries for " +
-         std::to_string(fine.vertex_count()) + " vertices");
+    fail_hierarchy("constraint vector has " + std::to_string(constrained.size()) + " entries for " +
+                   std::to_string(fine.vertex_count()) + " vertices");
   if (settings.first_cell_factor <= 0.0 || settings.max_coarsest_vertices < 1 ||
       settings.max_levels < 1)
-    fail("invalid settings");
+    fail_hierarchy("invalid settings");
   m_constrained.push_back(constrained.empty() ? std::vector<char>(fine.vertex_count(), 0)
                                               : constrained);
   Eigen::AlignedBox3d box(fine.vertices.colwise().minCoeff().transpose(),

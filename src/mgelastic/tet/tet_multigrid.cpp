@@ -14,7 +14,7 @@
 namespace mgelastic::tet {
 namespace {
 
-[[noreturn]] void fail(const std::string& reason) {
+[[noreturn]] void fail_tet_multigrid(const std::string& reason) {
   throw Error(reason, ErrorContext{std::string(), -1, "TetMultigrid"});
 }
 
@@ -35,8 +35,8 @@ TetMultigrid::TetMultigrid(const geometry::TetMesh& mesh, const std::vector<char
       m_hierarchy(mesh, constrained, settings.hierarchy),
       m_coarsest(std::make_unique<Coarsest>()) {
   if (stiffness_pattern.block_rows() != mesh.vertex_count())
-    fail("stiffness pattern has " + std::to_string(stiffness_pattern.block_rows()) +
-         " block rows for " + std::to_string(mesh.vertex_count()) + " vertices");
+    fail_tet_multigrid("stiffness pattern has " + std::to_string(stiffness_pattern.block_rows()) +
+                       " block rows for " + std::to_string(mesh.vertex_count()) + " vertices");
   m_levels.resize(level_count());
   m_levels[0].matrix =
       BlockRowMatrix<double>(stiffness_pattern.row_offsets(), stiffness_pattern.block_columns());
@@ -65,7 +65,7 @@ void TetMultigrid::update(const BlockRowMatrix<double>& stiffness,
                           double stiffness_scale) {
   BlockRowMatrix<double>& a = m_levels[0].matrix;
   if (stiffness.block_count() != a.block_count() || vertex_mass.size() != a.block_rows())
-    fail("stiffness or mass does not match the pattern given at construction");
+    fail_tet_multigrid("stiffness or mass does not match the pattern given at construction");
   Timer timer;
   // A_0 = m M + k K~; constrained rows and columns replaced by the identity.
   const std::vector<char>& fixed = m_hierarchy.constrained(0);
@@ -155,7 +155,7 @@ void TetMultigrid::finish_coarse_update() {
                                                              1e-300);
       singular |= !invertible;
     }
-    if (singular) fail("singular diagonal block on level " + std::to_string(l));
+    if (singular) fail_tet_multigrid("singular diagonal block on level " + std::to_string(l));
   }
   m_patches.factor(m_levels[0].matrix);
   // The Galerkin operator can be singular: coarse vertices outside the body whose support is a
@@ -170,8 +170,8 @@ void TetMultigrid::finish_coarse_update() {
   }
   m_coarsest->factorization.factorize(coarsest);
   if (m_coarsest->factorization.info() != Eigen::Success)
-    fail("coarsest operator (level " + std::to_string(level_count() - 1) +
-         ") is not positive definite");
+    fail_tet_multigrid("coarsest operator (level " + std::to_string(level_count() - 1) +
+                       ") is not positive definite");
 }
 
 void TetMultigrid::smooth(int l, const Eigen::VectorXd& b, Eigen::VectorXd& x, bool forward) const {
@@ -261,7 +261,8 @@ void TetMultigrid::cycle_level(int l, std::vector<LevelResiduals>* trace,
 }
 
 void TetMultigrid::cycle(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
-  if (b.size() != m_levels[0].b.size() || x.size() != b.size()) fail("vector size mismatch");
+  if (b.size() != m_levels[0].b.size() || x.size() != b.size())
+    fail_tet_multigrid("vector size mismatch");
   m_levels[0].b = b;
   m_levels[0].x = x;
   cycle_level(0, nullptr, false);
@@ -277,7 +278,8 @@ void TetMultigrid::precondition(const Eigen::VectorXd& r, Eigen::VectorXd& z) co
 
 std::vector<LevelResiduals> TetMultigrid::cycle_traced(const Eigen::VectorXd& b,
                                                        Eigen::VectorXd& x) const {
-  if (b.size() != m_levels[0].b.size() || x.size() != b.size()) fail("vector size mismatch");
+  if (b.size() != m_levels[0].b.size() || x.size() != b.size())
+    fail_tet_multigrid("vector size mismatch");
   std::vector<LevelResiduals> trace(level_count());
   m_levels[0].b = b;
   m_levels[0].x = x;
@@ -306,7 +308,8 @@ MultigridResult TetMultigrid::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x
     ++result.cycles;
     residual(b, x, r);
     result.relative_residual = b_norm > 0.0 ? r.norm() / b_norm : r.norm();
-    if (!std::isfinite(result.relative_residual)) fail("V-cycle produced non-finite values");
+    if (!std::isfinite(result.relative_residual))
+      fail_tet_multigrid("V-cycle produced non-finite values");
   }
   result.converged = result.relative_residual <= tolerance;
   return result;
@@ -335,13 +338,14 @@ PcgResult TetMultigrid::solve_pcg(const Eigen::VectorXd& b, Eigen::VectorXd& x,
     m_levels[0].matrix.multiply(p, q);
     const double curvature = p.dot(q);
     if (!(curvature > 0.0))
-      fail("MG-PCG met non-positive curvature p.Ap = " + std::to_string(curvature));
+      fail_tet_multigrid("MG-PCG met non-positive curvature p.Ap = " + std::to_string(curvature));
     const double alpha = rz / curvature;
     x += alpha * p;
     r -= alpha * q;
     ++result.iterations;
     result.relative_residual = r.norm() / b_norm;
-    if (!std::isfinite(result.relative_residual)) fail("MG-PCG produced non-finite values");
+    if (!std::isfinite(result.relative_residual))
+      fail_tet_multigrid("MG-PCG produced non-finite values");
     if (result.relative_residual <= settings.tolerance) break;
     z.setZero();
     precondition(r, z);
