@@ -37,6 +37,10 @@ TEST(HalfCellBodyForce, UpperFacesGainAndLowerFacesLoseHalfACellOfForce) {
   EXPECT_DOUBLE_EQ(problem.boundary_stress(0, 1, face(problem, 1, {4, n + 1, 4})), 0.0);
   // A face inside the body is no traction face.
   EXPECT_DOUBLE_EQ(problem.boundary_stress(1, 1, face(problem, 1, {4, 4, 4})), 0.0);
+  // Nor is a cell center, where a one-cell-thin cell's condition is sampled: the top cell's
+  // center would otherwise round to the face above it.
+  const Vec<3> top_cell = problem.lattice.cell_center(problem.lattice.index({4, n, 4}));
+  EXPECT_DOUBLE_EQ(problem.boundary_stress(1, 1, top_cell), 0.0);
 }
 
 TEST(HalfCellBodyForce, DynamicsKeepThePlainCondition) {

@@ -25,9 +25,7 @@ double relative_error(const Multigrid<Dim, Scalar>& mg, const Multigrid<Dim, dou
 template <int Dim, typename Scalar>
 ErrorHistory error_history(const ElasticityProblem<Dim>& problem, const MultigridOptions& options,
                            int cycles) {
-  MultigridOptions reference_options = options;
-  reference_options.mixed_precision = true;
-  Multigrid<Dim, double> reference(problem, reference_options);
+  Multigrid<Dim, double> reference(problem, options);
   const SolveReport solved = reference.solve_accelerated(1e-10, 400);
   ErrorHistory history;
   history.reference_residual = solved.residuals.back() / solved.residuals.front();

@@ -7,16 +7,20 @@ namespace mgelastic::grid {
 namespace {
 
 // +1 when the body lies below the traction face at x along axis i (an upper face), -1 when
-// above, 0 when neither or both cells are part of the body.
+// above, 0 when neither or both cells are part of the body, and 0 off the face planes: the
+// build samples a one-cell-thin cell's condition at the cell's center (level.cpp, explicit_rows),
+// where the cell's weight along i has no center to move to.
 template <int Dim>
 int face_side(const Lattice<Dim>& lattice, const std::vector<CellType>& cells, int i,
               const Vec<Dim>& x) {
   // Storage coordinates: cell s has its center at origin + h (s - 1/2); the face at x along i
   // lies between cells s_i - 1 and s_i with s_i = (x_i - origin_i) / h + 1.
+  const double along = (x[i] - lattice.origin[i]) / lattice.h + 1.0;
+  if (std::abs(along - std::round(along)) > 0.25) return 0;
   IVec<Dim> s;
   for (int a = 0; a < Dim; ++a)
     s[a] = static_cast<int>(
-        std::lround((x[a] - lattice.origin[a]) / lattice.h + (a == i ? 1.0 : 0.5)));
+        std::lround(a == i ? along : (x[a] - lattice.origin[a]) / lattice.h + 0.5));
   IVec<Dim> lower = s;
   lower[i] -= 1;
   for (int a = 0; a < Dim; ++a)
