@@ -40,7 +40,9 @@ def plot(series, title, path, guide_order=1.0):
         xs_all += n
         ys_all += e
         order = s["fitted_order"]
-        label = f'{s["engine"]} nu={s["poisson_ratio"]:g} {s["quantity"].split(",")[0]}'
+        # The study tells the cantilever's two loads apart (same quantity).
+        label = (f'{s["engine"]} {s["study"].removeprefix("cantilever_")} '
+                 f'nu={s["poisson_ratio"]:g} {s["quantity"].split(",")[0]}')
         if order is not None:
             label += f" (fit {order:.2f})"
         style = "o-" if s["engine"] == "grid" else "s--"

@@ -1,6 +1,6 @@
 #pragma once
-// Reaction forces of the grid engine's constraints (linear model, finest level in double, e.g.
-// Multigrid::solution_level()).
+// Reaction forces of the grid engine's constraints (finest level in double: the linear model's
+// Multigrid::solution_level(), the co-rotated model's CorotatedMultigrid::solution_level()).
 //
 // Summing the momentum rows h^3 [sum_j (P_ij(+) - P_ij(-)) / h + f_i] = 0 over every interior u_i
 // variable telescopes: a stress shared by two interior rows cancels, and what remains is the
@@ -18,11 +18,17 @@
 // constrained cells, surface-force shares there) are held by the clamp directly and appear in
 // neither side. The moment takes the stress locations as the points of application, so it is
 // first-order accurate in h (the force balance is exact).
-// Co-rotated runs: not covered (their stresses are rotated per cell); use the linear model.
+// Co-rotated model: the same sum with the co-rotated stresses (corotated_operator.hpp) of the
+// rotations of the current displacement, i.e. of the rows of the true non-linear residual the
+// solve converged, so the force balance holds to that residual as well. The stress is the first
+// Piola-Kirchhoff one (force per rest area), so the forces need no deformed areas; the moment
+// takes the deformed stress locations (rest location + displacement there) as points of
+// application, and the constraint's point stays where it was given (the rest centroid).
 #include <functional>
 #include <vector>
 
 #include "mgelastic/core/reaction.hpp"
+#include "mgelastic/grid/corotated_operator.hpp"
 #include "mgelastic/grid/level.hpp"
 
 namespace mgelastic::grid {
@@ -33,6 +39,14 @@ namespace mgelastic::grid {
 std::vector<Reaction> constraint_reactions(const Level<3, double>& level,
                                            const std::function<int(const Vec<3>&)>& constraint_of,
                                            const std::vector<Eigen::Vector3d>& points);
+
+// Co-rotated model (see above): `sigma` the problem's boundary tractions (their traction
+// conditions enter the stresses next to traction faces), `form` the rows' stress.
+std::vector<Reaction> corotated_constraint_reactions(
+    const Level<3, double>& level, const BoundaryStress<3>& sigma,
+    const std::function<int(const Vec<3>&)>& constraint_of,
+    const std::vector<Eigen::Vector3d>& points,
+    CorotatedStress form = CorotatedStress::SYMMETRIZED);
 
 // The applied loads on the free body as the rows see them (N): body forces and surface-force
 // shares on interior variables plus the eliminated boundary stresses, sum over interior u rows of

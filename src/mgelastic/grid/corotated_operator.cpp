@@ -126,6 +126,16 @@ class CorotatedRowBuilder {
     if (!m_homogeneous) row.constant -= m_mu * (Dim - r.trace());
   }
 
+  // Where the traction condition fixing P_ii of `cell` holds (explicit_rows.cpp), or none.
+  std::optional<Vec<Dim>> traction_face(int i, std::ptrdiff_t cell) const {
+    const std::ptrdiff_t si = m_lat.stride(i);
+    const bool lower = exterior(cell - si), upper = exterior(cell + si);
+    if (lower && upper) return m_lat.cell_center(cell);
+    if (lower) return m_lat.face_center(i, cell);
+    if (upper) return m_lat.face_center(i, cell + si);
+    return std::nullopt;
+  }
+
   // Interior cells incident to edge (i, j) at e, or none when one of them is exterior.
   std::optional<Quad> edge_cells(int i, int j, std::ptrdiff_t e) const {
     const std::ptrdiff_t si = m_lat.stride(i), sj = m_lat.stride(j);
@@ -146,16 +156,6 @@ class CorotatedRowBuilder {
   bool known(int axis, std::ptrdiff_t k) const {
     const VarKind kind = m_level.kind[axis][k];
     return kind == VarKind::INTERIOR || kind == VarKind::DIRICHLET;
-  }
-
-  // Where the traction condition fixing P_ii of `cell` holds (explicit_rows.cpp), or none.
-  std::optional<Vec<Dim>> traction_face(int i, std::ptrdiff_t cell) const {
-    const std::ptrdiff_t si = m_lat.stride(i);
-    const bool lower = exterior(cell - si), upper = exterior(cell + si);
-    if (lower && upper) return m_lat.cell_center(cell);
-    if (lower) return m_lat.face_center(i, cell);
-    if (upper) return m_lat.face_center(i, cell + si);
-    return std::nullopt;
   }
 
   // weight * P_ii(cell), P_ii = 2 mu G_ii + 2 mu (1 - R_ii) - mu R_ii p.
@@ -519,6 +519,21 @@ double corotated_residual(Level<Dim, double>& level, const std::vector<Matrix<Di
 }
 
 template <int Dim>
+std::optional<double> corotated_stress(const Level<Dim, double>& level,
+                                       const std::vector<Matrix<Dim>>& rotations,
+                                       const BoundaryStress<Dim>& sigma, int i, int j,
+                                       std::ptrdiff_t location, CorotatedStress form) {
+  const CorotatedRowBuilder<Dim> builder(level, rotations, sigma, false, form);
+  if (i == j) {
+    if (builder.traction_face(i, location)) return std::nullopt;
+    return builder.normal_stress(i, location);
+  }
+  const auto cells = builder.edge_cells(i, j, location);
+  if (!cells || cells->empty()) return std::nullopt;
+  return builder.shear_stress(i, j, location);
+}
+
+template <int Dim>
 double corotated_residual(Level<Dim, double>& level, const CorotatedRows& rows) {
   for (auto& field : level.r) std::fill(field.begin(), field.end(), 0.0);
   const auto count = static_cast<std::ptrdiff_t>(rows.rows());
@@ -596,6 +611,9 @@ void corotated_back_substitute(Level<Dim, double>& level, const std::vector<Matr
                                                  const std::vector<Matrix<D>>&,                    \
                                                  const BoundaryStress<D>&, bool, CorotatedStress); \
   template double corotated_residual<D>(Level<D, double>&, const CorotatedRows&);                  \
+  template std::optional<double> corotated_stress<D>(                                              \
+      const Level<D, double>&, const std::vector<Matrix<D>>&, const BoundaryStress<D>&, int, int,  \
+      std::ptrdiff_t, CorotatedStress);                                                            \
   template double corotated_residual<D>(Level<D, double>&, const std::vector<Matrix<D>>&,          \
                                         const BoundaryStress<D>&, bool, CorotatedStress);          \
   template void corotated_back_substitute<D>(Level<D, double>&, const std::vector<Matrix<D>>&,     \

@@ -23,6 +23,7 @@
 // "homogeneous" rows (coarse levels: correction equations) drop every constant (tractions,
 // 2 mu (I - R), mu (d - tr R)). At lambda = 0 the pressure row is p = 0.
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "mgelastic/grid/corotation.hpp"
@@ -69,6 +70,18 @@ template <int Dim>
 double corotated_residual(Level<Dim, double>& level, const std::vector<Matrix<Dim>>& rotations,
                           const BoundaryStress<Dim>& sigma, bool homogeneous,
                           CorotatedStress form = CorotatedStress::SYMMETRIZED);
+
+// The stress the momentum rows of `rotations` (non-homogeneous) add at one location for the
+// level's current x: P_ii at cell `location` (j == i) or P_ij at the (i, j) edge `location`.
+// std::nullopt where the rows add no stress of x there: a boundary stress (an exterior cell at
+// the location: the rows take its traction value, a load) or an edge between Dirichlet cells.
+// For the reactions of constraints (constraint_reactions.hpp).
+template <int Dim>
+std::optional<double> corotated_stress(const Level<Dim, double>& level,
+                                       const std::vector<Matrix<Dim>>& rotations,
+                                       const BoundaryStress<Dim>& sigma, int i, int j,
+                                       std::ptrdiff_t location,
+                                       CorotatedStress form = CorotatedStress::SYMMETRIZED);
 
 // Sets the traction variables from the co-rotated traction conditions (P_ii = sigma at normal
 // faces, P_ij = sigma at the faces half a cell outside), the rules of level.traction with the

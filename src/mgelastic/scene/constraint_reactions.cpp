@@ -12,6 +12,14 @@ std::vector<Reaction> grid_constraint_reactions(const GridSetup& setup,
       setup.constraint_centroids);
 }
 
+std::vector<Reaction> grid_corotated_constraint_reactions(const GridSetup& setup,
+                                                          const grid::Level<3, double>& solution) {
+  return grid::corotated_constraint_reactions(
+      solution, setup.problem.boundary_stress,
+      [&setup](const grid::Vec<3>& x) { return constraint_at(setup, x); },
+      setup.constraint_centroids);
+}
+
 std::vector<Reaction> tet_constraint_reactions(const TetSetup& setup,
                                                const tet::CorotatedSolver& solver) {
   return tet::constraint_reactions(solver.unbalanced_forces(), solver.positions(),

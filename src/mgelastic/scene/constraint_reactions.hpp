@@ -18,6 +18,11 @@ namespace mgelastic::scene {
 std::vector<Reaction> grid_constraint_reactions(const GridSetup& setup,
                                                 const grid::Level<3, double>& solution);
 
+// Grid engine, co-rotated model: `solution` is CorotatedMultigrid::solution_level() after the
+// solve (grid/constraint_reactions.hpp; the default, symmetrized, stress of the scene's runs).
+std::vector<Reaction> grid_corotated_constraint_reactions(const GridSetup& setup,
+                                                          const grid::Level<3, double>& solution);
+
 // Tet engine: after CorotatedSolver::solve_static (tet/constraint_reactions.hpp).
 std::vector<Reaction> tet_constraint_reactions(const TetSetup& setup,
                                                const tet::CorotatedSolver& solver);

@@ -1,8 +1,8 @@
 #pragma once
 // Reaction force and moment of every constraint (core/reaction.hpp) in the current state of a
-// Simulation, in scene order: grid engine, linear model (scene/constraint_reactions.hpp); tet
-// engine. The grid engine's co-rotated model has none (its rotated cell stresses are not
-// summed yet): std::nullopt.
+// Simulation, in scene order: grid engine, linear and co-rotated models
+// (scene/constraint_reactions.hpp); tet engine. std::nullopt where a model has none (none
+// today: the optional stays for models without a double solution level).
 #include <optional>
 #include <vector>
 

@@ -541,6 +541,10 @@ const grid::Level<3, double>* GridStepper::linear_solution() const {
   return m_solver->linear_solution();
 }
 
+const grid::Level<3, double>* GridStepper::corotated_solution() const {
+  return m_scene->material_model == "corotated" ? m_solver->level_double() : nullptr;
+}
+
 Eigen::Vector3i GridStepper::cells() const {
   return with_level(*m_solver, [](const auto& lattice) {
     return Eigen::Vector3i(lattice.cells[0], lattice.cells[1], lattice.cells[2]);

@@ -77,6 +77,9 @@ class GridStepper {
   // The linear model's finest level in double (its x: the solution), for reactions; null for
   // the co-rotated model.
   const grid::Level<3, double>* linear_solution() const;
+  // The co-rotated model's finest level (its x: the solution), for reactions; null for the
+  // linear model.
+  const grid::Level<3, double>* corotated_solution() const;
   Eigen::Vector3i cells() const;  // lattice cells per axis
   double spacing() const;
   Eigen::Vector3d origin() const;

@@ -1,6 +1,7 @@
 #pragma once
-// Cantilever of length L along x with a square b x b section, clamped at x = 0 (constraint region
-// the slab |x| < 0.6 h: the grid's first cell layer, the tet grid's vertices at x = 0), under
+// Cantilever of length L along x with a square b x b section, clamped at the wall x = 0 (tet: the
+// vertices on it; grid: the body continues one Dirichlet cell behind it, so the free length is L
+// at every resolution, cantilever.cpp), under
 // (a) a total tip force P = 10 N along -y on the face x = L (loads.forces with normal selection
 // [1, 0, 0]) and (b) gravity g along -y.
 //
