@@ -71,7 +71,7 @@ const FrameStats& Simulation::step() {
     start.emplace();
     start->time = time();
     if (m->grid) {
-      m->grid->save(*start, {});
+      m->grid->save_start(*start);
     } else {
       m->tet->save(*start, {});
     }
@@ -80,7 +80,7 @@ const FrameStats& Simulation::step() {
     m->stats = m->grid ? m->grid->advance_frame(m->frame, m->attempt_time)
                        : m->tet->advance_frame(m->frame, m->attempt_time);
   } catch (const Cancelled&) {
-    if (start && m->grid) m->grid->rebuild_from(*start);
+    if (start && m->grid) m->grid->return_to_start(*start);
     if (start && m->tet) m->tet->restore(*start);
     throw;
   }
@@ -167,8 +167,10 @@ const io::SurfaceTriangles& Simulation::surface_triangles() const {
   return m->grid ? m->grid->rest_surface().triangles : m->tet->triangles();
 }
 
-io::Checkpoint Simulation::checkpoint(const std::vector<io::NamedArray>& attachments) const {
+io::Checkpoint Simulation::checkpoint(const std::vector<io::NamedArray>& attachments,
+                                      std::vector<io::NamedArray> storage) const {
   io::Checkpoint c;
+  c.spare = std::move(storage);
   c.engine = m->scene.engine;
   c.scene_fingerprint = scene_fingerprint(m->scene);
   c.threads = thread_count();
@@ -179,6 +181,7 @@ io::Checkpoint Simulation::checkpoint(const std::vector<io::NamedArray>& attachm
   } else {
     m->tet->save(c, attachments);
   }
+  c.spare.clear();
   return c;
 }
 
