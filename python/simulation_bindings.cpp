@@ -367,9 +367,8 @@ void bind_simulation(py::module_& m) {
           },
           py::arg("index"), py::arg("traction"),
           "Load `index` of the scene's loads.tractions applies `traction` (3 numbers, Pa) from "
-          "the next step on, on the same surface. Grid engine: the linear model takes the new "
-          "load into its solver hierarchy, the co-rotated model rebuilds it before the next "
-          "step.")
+          "the next step on, on the same surface. Grid engine: the new load replaces the old "
+          "one in the solver hierarchy (no rebuild).")
       .def(
           "set_pressure",
           [](PySimulation& s, std::size_t index, double pressure) {

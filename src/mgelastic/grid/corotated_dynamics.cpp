@@ -38,6 +38,13 @@ void CorotatedBackwardEuler<Dim>::set_velocity(const VectorField& velocity) {
 }
 
 template <int Dim>
+void CorotatedBackwardEuler<Dim>::set_loads(ElasticityProblem<Dim> problem) {
+  m_multigrid.set_loads(with_inertia(std::move(problem), m_inertia));
+  // set_loads leaves the static right-hand side in b; each step builds its own b from it.
+  m_static_rhs = m_multigrid.solution_level().b;
+}
+
+template <int Dim>
 void CorotatedBackwardEuler<Dim>::assemble_right_hand_side() {
   Level<Dim, double>& level = m_multigrid.solution_level();
   if (m_options.damping > 0) {

@@ -23,6 +23,10 @@ class CorotatedBackwardEuler {
                          MultigridOptions multigrid = {}, CorotatedOptions corotated = {});
 
   void set_velocity(const VectorField& velocity);
+  // Replaces the loads from the next step on, without a hierarchy build
+  // (CorotatedMultigrid::set_loads; BackwardEuler::set_loads): the step's static right-hand
+  // side comes from `problem`, whose other members must be those of the build.
+  void set_loads(ElasticityProblem<Dim> problem);
   // Advances one step; throws mgelastic::Error naming the time when the step diverges.
   CorotatedReport step(const VectorField& dirichlet = {});
 

@@ -14,6 +14,7 @@
 #include "mgelastic/grid/corotated_band_smoother.hpp"
 #include "mgelastic/grid/corotated_distributive_smoother.hpp"
 #include "mgelastic/grid/corotated_newton_krylov.hpp"
+#include "mgelastic/grid/load_update.hpp"
 #include "mgelastic/grid/transfer.hpp"
 
 namespace mgelastic::grid {
@@ -129,6 +130,22 @@ void CorotatedMultigrid<Dim>::set_dirichlet_displacement(
     const std::function<Vec<Dim>(const Vec<Dim>&)>& displacement) {
   m_multigrid.set_dirichlet_displacement(displacement);
   back_substitute(0);
+}
+
+template <int Dim>
+void CorotatedMultigrid<Dim>::set_loads(const ElasticityProblem<Dim>& problem) {
+  // Not Multigrid::set_loads: its back-substitution with the linear traction rules would change
+  // x, which a restored build keeps.
+  Level<Dim, double>& finest = m_multigrid.level(0);
+  check_same_system(finest, problem);
+  replace_boundary_stress(finest, problem.boundary_stress);
+  write_load_right_hand_side(problem, finest);
+  m_sigma_full = problem.boundary_stress;
+  set_traction_scale(1.0);
+  m_rows[0].constant =
+      build_corotated_rows(finest, m_rotations[0], m_sigma, false, m_options.stress).constant;
+  m_fresh.reset();  // rows of the old loads
+  m_equilibrium = current_load();
 }
 
 template <int Dim>
@@ -580,6 +597,7 @@ void CorotatedMultigrid<Dim>::restore_carried_state(const CorotatedCarriedState<
     if (z.size() != unknowns)
       throw Error("co-rotated state: a recycled correction has " + std::to_string(z.size()) +
                   " entries, the hierarchy " + std::to_string(unknowns) + " unknowns");
+  set_traction_scale(1.0);  // as saved between solves (a cancelled load step may have left less)
   FreshRows fresh;
   fresh.rotations.resize(cells);
   for (std::size_t c = 0; c < cells; ++c)

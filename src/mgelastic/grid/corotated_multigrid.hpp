@@ -84,9 +84,9 @@ struct CorotatedReport {
   int cycles() const { return static_cast<int>(nonlinear.size()) - 1; }
 };
 
-// What later cycles read besides the finest unknowns (checkpoints, sim/grid_stepper.cpp): the frozen
-// rows are a function of the rotations they were built from, which lag the displacement by up to
-// k cycles, so those rotations, the cycles since their refresh and the Newton step's recycled
+// What later cycles read besides the finest unknowns (checkpoints, sim/grid_stepper.cpp): the
+// frozen rows are a function of the rotations they were built from, which lag the displacement by
+// up to k cycles, so those rotations, the cycles since their refresh and the Newton step's recycled
 // corrections decide the next cycles. The rest (coarse levels' rotations, rows, smoother blocks,
 // coarsest factor) is rebuilt from them; the load-stepping start is the current load.
 template <int Dim>
@@ -104,6 +104,15 @@ class CorotatedMultigrid {
   ~CorotatedMultigrid();
 
   void set_dirichlet_displacement(const std::function<Vec<Dim>(const Vec<Dim>&)>& displacement);
+  // Replaces the loads (boundary_stress, variable_loads, body_force) by those of `problem`
+  // without a hierarchy build: the finest right-hand side, the linear level's traction rules and
+  // band constants (load_update.hpp), and the finest co-rotated rows' constants (their
+  // coefficients and the coarse levels' homogeneous rows do not depend on the loads). The rest of
+  // `problem` must be that of the build (throws Error otherwise). Afterwards the solver is what a
+  // build from `problem` with this one's state restored (carried_state, the finest x) is, bit for
+  // bit: x is kept as it is (traction values included; cycles back-substitute them), and load
+  // stepping starts from the new load.
+  void set_loads(const ElasticityProblem<Dim>& problem);
   // Rotations from the current displacement on the finest level, restricted to every level;
   // rebuilds rows, smoother blocks and the coarsest factor. Resets the cycle counter.
   void refresh_rotations();
@@ -142,8 +151,9 @@ class CorotatedMultigrid {
 
   CorotatedCarriedState<Dim> carried_state() const;
   // After the finest unknowns were restored (solution_level().x, Dirichlet and traction values
-  // included): rebuilds every level's system from the carried rotations, exactly as the run that
-  // saved it had them, and takes the current load as the equilibrium load stepping starts from.
+  // included): rebuilds every level's system from the carried rotations and the full boundary
+  // tractions, exactly as the run that saved it had them between solves, and takes the current
+  // load as the equilibrium load stepping starts from.
   // Throws Error when the arrays do not fit this hierarchy.
   void restore_carried_state(const CorotatedCarriedState<Dim>& state);
 

@@ -67,12 +67,26 @@ struct Checkpoint {
   double time = 0.0;                    // simulated time of that frame, s
   std::vector<NamedArray> arrays;
   std::string source;  // the file it was read from (names it in errors); not stored
+  // Arrays of an older snapshot whose storage add() reuses by name; not stored.
+  std::vector<NamedArray> spare;
 
   template <typename T>
   void add(std::string name, std::span<const T> values) {
-    NamedArray a{std::move(name), scalar_type_of<T>(), values.size(), {}};
-    a.bytes.resize(values.size_bytes());
-    if (!values.empty()) std::memcpy(a.bytes.data(), values.data(), values.size_bytes());
+    // One pass over the bytes, into the storage of the spare array of that name when there is
+    // one: a run snapshots its state after every frame (sim/run_checkpoints.hpp), and fresh
+    // pages would be zeroed by the kernel each time.
+    const auto* bytes = reinterpret_cast<const std::byte*>(values.data());
+    NamedArray a;
+    for (NamedArray& s : spare)
+      if (s.name == name) {
+        a = std::move(s);
+        s.name.clear();  // used
+        break;
+      }
+    a.name = std::move(name);
+    a.type = scalar_type_of<T>();
+    a.length = values.size();
+    a.bytes.assign(bytes, bytes + values.size_bytes());
     arrays.push_back(std::move(a));
   }
   // The array `name` as T; throws Error naming the file and the array when it is missing, has

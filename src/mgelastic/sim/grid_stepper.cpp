@@ -84,6 +84,11 @@ void add_corotated(io::Checkpoint& c, const grid::CorotatedMultigrid<3>& solver)
                   std::span<const double>(state.recycled[i].data(), state.recycled[i].size()));
 }
 
+// The solution level's right-hand side in a start state (GridStepper::save_start).
+std::string start_rhs_name(std::size_t field) {
+  return "grid.start_b" + std::to_string(field);
+}
+
 void restore_corotated(const io::Checkpoint& c, grid::CorotatedMultigrid<3>& solver) {
   grid::CorotatedCarriedState<3> state;
   state.rotations = c.get<double>("grid.rotations");
@@ -126,11 +131,15 @@ class GridStepper::Solver {
   // The linear model's double solution level (reactions); null for the co-rotated model.
   virtual const grid::Level<3, double>* linear_solution() const { return nullptr; }
   virtual double solution(int field, std::ptrdiff_t k) const = 0;
-  virtual std::array<std::vector<double>, 4> unknowns_state() const = 0;
+  // The finest unknowns in double (the solver's own arrays where it holds them in double).
+  virtual const std::array<std::vector<double>, 4>& unknowns_state() const = 0;
   virtual void set_unknowns_state(const std::array<std::vector<double>, 4>& x) = 0;
-  // Takes the problem's new loads in place (Multigrid::set_loads); false where the model cannot
-  // (the stepper then rebuilds the solver).
-  virtual bool set_loads(const grid::ElasticityProblem<3>&) { return false; }
+  // The solution level's right-hand side (Multigrid::solution_level().b): a cancelled solve may
+  // leave it half-way (FGMRES works on a cleared one, co-rotated load steps blend it).
+  virtual const std::array<std::vector<double>, 4>& right_hand_side() const = 0;
+  virtual void set_right_hand_side(const std::array<std::vector<double>, 4>& b) = 0;
+  // Takes the problem's new loads in place (Multigrid::set_loads, CorotatedMultigrid::set_loads).
+  virtual void set_loads(const grid::ElasticityProblem<3>& problem) = 0;
 };
 
 namespace {
@@ -154,16 +163,19 @@ class HierarchySolver : public GridStepper::Solver {
   double solution(int field, std::ptrdiff_t k) const override {
     return hierarchy().solution(field, k);
   }
-  std::array<std::vector<double>, 4> unknowns_state() const override {
-    const auto& x = hierarchy().solution_state();
-    std::array<std::vector<double>, 4> out;
-    for (std::size_t f = 0; f < x.size(); ++f) out[f].assign(x[f].begin(), x[f].end());
-    return out;
+  const std::array<std::vector<double>, 4>& unknowns_state() const override {
+    return hierarchy().solution_state();
   }
   void set_unknowns_state(const std::array<std::vector<double>, 4>& x) override {
     typename grid::Multigrid<3, Scalar>::SolutionState state;
     for (std::size_t f = 0; f < state.size(); ++f) state[f].assign(x[f].begin(), x[f].end());
     hierarchy().set_solution_state(state);
+  }
+  const std::array<std::vector<double>, 4>& right_hand_side() const override {
+    return hierarchy().solution_level().b;
+  }
+  void set_right_hand_side(const std::array<std::vector<double>, 4>& b) override {
+    hierarchy().solution_level().b = b;
   }
 
  protected:
@@ -186,10 +198,7 @@ class LinearStatic final : public HierarchySolver<Scalar> {
   }
   std::size_t bytes() const override { return m_mg.bytes(); }
   const grid::Level<3, double>* linear_solution() const override { return &m_mg.solution_level(); }
-  bool set_loads(const grid::ElasticityProblem<3>& problem) override {
-    m_mg.set_loads(problem);
-    return true;
-  }
+  void set_loads(const grid::ElasticityProblem<3>& problem) override { m_mg.set_loads(problem); }
 
  protected:
   grid::Multigrid<3, Scalar>& hierarchy() override { return m_mg; }
@@ -228,9 +237,8 @@ class LinearDynamic final : public Dynamic<grid::BackwardEuler<3, Scalar>, Scala
     return linear_stats(this->m_sim.step(dirichlet));
   }
   double inertia() const override { return this->m_sim.inertia(); }
-  bool set_loads(const grid::ElasticityProblem<3>& problem) override {
+  void set_loads(const grid::ElasticityProblem<3>& problem) override {
     this->m_sim.set_loads(problem);
-    return true;
   }
   void save_carried(io::Checkpoint& c) const override { add_velocity(c, this->m_sim.velocity()); }
   void restore_carried(const io::Checkpoint& c) override {
@@ -254,6 +262,9 @@ class CorotatedStatic final : public HierarchySolver<double> {
     if (dirichlet) m_solver.set_dirichlet_displacement(dirichlet);
     return corotated_stats(m_solver.solve_with_load_steps(m_scene.tolerance, m_scene.max_vcycles));
   }
+  void set_loads(const grid::ElasticityProblem<3>& problem) override {
+    m_solver.set_loads(problem);
+  }
   void save_carried(io::Checkpoint& c) const override { add_corotated(c, m_solver); }
   void restore_carried(const io::Checkpoint& c) override { restore_corotated(c, m_solver); }
 
@@ -272,6 +283,7 @@ class CorotatedDynamic final : public Dynamic<grid::CorotatedBackwardEuler<3>, d
   StepStats solve(double, const VectorField& dirichlet) override {
     return corotated_stats(m_sim.step(dirichlet));
   }
+  void set_loads(const grid::ElasticityProblem<3>& problem) override { m_sim.set_loads(problem); }
   void save_carried(io::Checkpoint& c) const override {
     add_velocity(c, m_sim.velocity());
     add_corotated(c, m_sim.multigrid());
@@ -366,7 +378,9 @@ double GridStepper::time() const {
 }
 
 void GridStepper::save(io::Checkpoint& c, const std::vector<io::NamedArray>& attachments) const {
-  const auto x = m_solver->unknowns_state();
+  // Straight from the solver's arrays: a run snapshots its state after every frame (the last
+  // good state a failed frame saves, run_checkpoints.hpp).
+  const auto& x = m_solver->unknowns_state();
   for (std::size_t f = 0; f < x.size(); ++f) c.add<double>("grid.x" + std::to_string(f), x[f]);
   c.arrays.insert(c.arrays.end(), attachments.begin(), attachments.end());
   m_solver->save_carried(c);
@@ -392,32 +406,33 @@ void GridStepper::set_region_pose(std::size_t region, const Eigen::Vector3d& tra
 }
 
 // The loads live in the finest level's right-hand side and in its boundary rows (constants and
-// traction rules): the linear models replace them in place (Multigrid::set_loads, no hierarchy
-// build). The co-rotated solver keeps the problem's boundary stresses (and their load-stepping
-// scale, corotated_multigrid.hpp) and folds them into its rotated rows at every rotation refresh
-// (corotated_operator.cpp), so it gets a new solver from the reloaded problem; the state crosses
-// over as in a checkpoint.
+// traction rules), for the co-rotated model also in its finest rotated rows' constants: every
+// model replaces them in place (Multigrid::set_loads, CorotatedMultigrid::set_loads), no
+// hierarchy build.
 void GridStepper::reload_loads() {
   scene::set_surface_loads(*m_scene, m_setup);
   m_loads_changed = false;
   Timer timer;
-  if (m_solver->set_loads(m_setup.problem)) {
-    m_load_update_seconds = timer.seconds();
-    return;
-  }
-  io::Checkpoint state;
-  state.time = m_time;
-  save(state, {});
-  rebuild_from(state);
+  m_solver->set_loads(m_setup.problem);
   m_load_update_seconds = timer.seconds();
 }
 
-void GridStepper::rebuild_from(const io::Checkpoint& state) {
-  m_solver.reset();  // one hierarchy in memory at a time
-  Timer timer;
-  m_solver = make_solver(m_setup, *m_scene);
-  m_hierarchy_seconds = timer.seconds();
-  restore(state);
+void GridStepper::save_start(io::Checkpoint& c) {
+  if (m_loads_changed) reload_loads();
+  save(c, {});
+  const auto& b = m_solver->right_hand_side();
+  for (std::size_t f = 0; f < b.size(); ++f) c.add<double>(start_rhs_name(f), b[f]);
+}
+
+void GridStepper::return_to_start(const io::Checkpoint& start) {
+  // The right-hand side first: the co-rotated model takes the current load as the equilibrium
+  // its load stepping starts from (CorotatedMultigrid::restore_carried_state).
+  const auto& now = m_solver->right_hand_side();
+  std::array<std::vector<double>, 4> b;
+  for (std::size_t f = 0; f < b.size(); ++f)
+    b[f] = start.get<double>(start_rhs_name(f), static_cast<std::int64_t>(now[f].size()));
+  m_solver->set_right_hand_side(b);
+  restore(start);
 }
 
 void GridStepper::invalidate() {

@@ -47,22 +47,24 @@ class GridStepper {
   // carried state of the model/integrator (velocities "grid.v*", co-rotated state).
   void save(io::Checkpoint& c, const std::vector<io::NamedArray>& attachments) const;
   void restore(const io::Checkpoint& c);
-  // Builds the solver anew from the problem and continues from `state` (save() of this stepper):
-  // after a cancelled step (core/cancellation.hpp), whose solve may have left the hierarchy
-  // half-way (the accelerated solve's cleared right-hand side, a co-rotated load increment), the
-  // continuation is then that of a resumed checkpoint. Costs one hierarchy build.
-  void rebuild_from(const io::Checkpoint& state);
+  // The start of the next frame, to return to after a cancelled step (core/cancellation.hpp):
+  // save()'s arrays and the solution level's right-hand side, which a cancelled solve may leave
+  // half-way (the accelerated solve's cleared one, a co-rotated load increment's blend). Loads
+  // changed since the last step go into the solver first. return_to_start restores it without a
+  // hierarchy build (co-rotated: its rows from the carried rotations, as restore() does); the
+  // continuation is then that of a resumed checkpoint.
+  void save_start(io::Checkpoint& start);
+  void return_to_start(const io::Checkpoint& start);
 
   // Keyframed region `region` (index in the scene's constraints) holds this rigid pose (about
   // its pivot) from now on.
   void set_region_pose(std::size_t region, const Eigen::Vector3d& translate,
                        const Eigen::Quaterniond& rotate);
 
-  // The scene's loads (tractions, pressures, forces) changed: the next step applies them. The
-  // linear models replace the loads in their hierarchy (Multigrid::set_loads: boundary values
-  // and right-hand side, no rebuild); the co-rotated model rebuilds its solver from the
-  // reloaded problem (one hierarchy build), carrying the current state (unknowns, co-rotated
-  // state, velocities) over as a checkpoint does.
+  // The scene's loads (tractions, pressures, forces) changed: the next step applies them. Every
+  // model replaces the loads in its hierarchy (boundary values, right-hand side, the co-rotated
+  // rows' constants; Multigrid::set_loads, CorotatedMultigrid::set_loads), no rebuild; the
+  // state (unknowns, co-rotated state, velocities) stays, as a checkpoint would carry it.
   void loads_changed() { m_loads_changed = true; }
 
   const scene::GridSetup& setup() const { return m_setup; }
@@ -91,7 +93,7 @@ class GridStepper {
   const grid::PhaseSeconds& phase_seconds() const;
   double hierarchy_seconds() const { return m_hierarchy_seconds; }
   double setup_seconds() const { return m_setup_seconds; }
-  // Seconds the last load change took (reloaded loads into the solver, or its rebuild).
+  // Seconds the last load change took (the loads replaced in the solver).
   double load_update_seconds() const { return m_load_update_seconds; }
   double inertia() const;  // backward Euler c (N/m^4), 0 quasistatic
   double step_dt() const { return m_step_dt; }

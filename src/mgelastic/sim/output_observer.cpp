@@ -134,7 +134,8 @@ bool OutputObserver::frame_done(const Simulation& simulation, const FrameStats& 
   m_last_output_seconds = timer.seconds();
   m_output_seconds += m_last_output_seconds;
   const bool stop = stop_requested && stop_requested();
-  m_checkpoints->completed(simulation.checkpoint({series_array(m_series)}), stop);
+  m_checkpoints->completed(
+      simulation.checkpoint({series_array(m_series)}, m_checkpoints->take_storage()), stop);
   return !stop;
 }
 

@@ -109,6 +109,13 @@ void RunCheckpoints::completed(io::Checkpoint state, bool now) {
   }
 }
 
+std::vector<io::NamedArray> RunCheckpoints::take_storage() {
+  if (!m_last_good) return {};
+  std::vector<io::NamedArray> arrays = std::move(m_last_good->arrays);
+  m_last_good.reset();
+  return arrays;
+}
+
 int RunCheckpoints::save_last_good() {
   if (!m_last_good) return m_resume ? m_resume->frame : -1;  // the resumed-from file is on disk
   if (!m_last_good_written) io::write_checkpoint(m_path, *m_last_good);

@@ -48,6 +48,10 @@ class RunCheckpoints {
   // The frame completed with this state: it becomes the last good one, and is written when the
   // frame is due (every N frames, or the last frame) or `now` (interrupted).
   void completed(io::Checkpoint state, bool now);
+  // The last good state's arrays, for the snapshot of the frame completed after it to reuse
+  // (Simulation::checkpoint's storage); that state is gone then, so call it only with that
+  // frame completed.
+  std::vector<io::NamedArray> take_storage();
   // After a failed frame: writes the last good state unless it is on disk already. Returns its
   // frame index, -1 when no frame completed in this run or the one resumed from.
   int save_last_good();

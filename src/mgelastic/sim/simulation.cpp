@@ -1,7 +1,6 @@
 #include "mgelastic/sim/simulation.hpp"
 
 #include <cmath>
-#include <optional>
 
 #include "mgelastic/core/cancellation.hpp"
 #include "mgelastic/core/error.hpp"
@@ -17,6 +16,9 @@ struct Simulation::State {
   int frame = 0;
   double attempt_time = 0;
   FrameStats stats;
+  // The start of the step in progress while cancellation is armed (Python steps under a scope):
+  // kept between steps so that each capture reuses the last one's array storage.
+  io::Checkpoint start;
 };
 
 Simulation::Simulation(scene::Scene scene) : m(new State{std::move(scene)}) {
@@ -66,22 +68,24 @@ const TetStepper* Simulation::tet() const {
 const FrameStats& Simulation::step() {
   // A cancelled solve leaves the engine half-way through the frame: while cancellation is armed
   // the frame's start state is kept, as a checkpoint holds it, to return to.
-  std::optional<io::Checkpoint> start;
-  if (cancellation_armed()) {
-    start.emplace();
-    start->time = time();
+  const bool armed = cancellation_armed();
+  if (armed) {
+    io::Checkpoint& start = m->start;
+    start.spare = std::move(start.arrays);
+    start.arrays.clear();
+    start.time = time();
     if (m->grid) {
-      m->grid->save(*start, {});
+      m->grid->save_start(start);
     } else {
-      m->tet->save(*start, {});
+      m->tet->save(start, {});
     }
   }
   try {
     m->stats = m->grid ? m->grid->advance_frame(m->frame, m->attempt_time)
                        : m->tet->advance_frame(m->frame, m->attempt_time);
   } catch (const Cancelled&) {
-    if (start && m->grid) m->grid->rebuild_from(*start);
-    if (start && m->tet) m->tet->restore(*start);
+    if (armed && m->grid) m->grid->return_to_start(m->start);
+    if (armed && m->tet) m->tet->restore(m->start);
     throw;
   }
   ++m->frame;
@@ -167,8 +171,10 @@ const io::SurfaceTriangles& Simulation::surface_triangles() const {
   return m->grid ? m->grid->rest_surface().triangles : m->tet->triangles();
 }
 
-io::Checkpoint Simulation::checkpoint(const std::vector<io::NamedArray>& attachments) const {
+io::Checkpoint Simulation::checkpoint(const std::vector<io::NamedArray>& attachments,
+                                      std::vector<io::NamedArray> storage) const {
   io::Checkpoint c;
+  c.spare = std::move(storage);
   c.engine = m->scene.engine;
   c.scene_fingerprint = scene_fingerprint(m->scene);
   c.threads = thread_count();
@@ -179,6 +185,7 @@ io::Checkpoint Simulation::checkpoint(const std::vector<io::NamedArray>& attachm
   } else {
     m->tet->save(c, attachments);
   }
+  c.spare.clear();
   return c;
 }
 

@@ -68,8 +68,8 @@ class Simulation {
   // rest normal, total force N; the selected surface stays that of the scene. scene() shows the
   // new value; its document (and so a checkpoint's scene fingerprint) keeps the file's. Error
   // naming /loads/<kind> when the scene has no such load or the value is not finite. Grid engine:
-  // the next step first replaces the loads in the solver hierarchy (linear model, no rebuild) or
-  // rebuilds it (co-rotated model), GridStepper::loads_changed.
+  // the next step first replaces the loads in the solver hierarchy (no rebuild),
+  // GridStepper::loads_changed.
   void set_traction(std::size_t index, const Eigen::Vector3d& traction);
   void set_pressure(std::size_t index, double pressure);
   void set_force(std::size_t index, const Eigen::Vector3d& force);
@@ -83,8 +83,10 @@ class Simulation {
   const io::SurfaceTriangles& surface_triangles() const;
 
   // Checkpoint of the last completed frame; `attachments` (e.g. the output series) are stored
-  // among the engine's arrays at the place format version 1 files have them.
-  io::Checkpoint checkpoint(const std::vector<io::NamedArray>& attachments = {}) const;
+  // among the engine's arrays at the place format version 1 files have them. `storage`: the
+  // arrays of an older checkpoint, whose memory the new one reuses (a snapshot every frame).
+  io::Checkpoint checkpoint(const std::vector<io::NamedArray>& attachments = {},
+                            std::vector<io::NamedArray> storage = {}) const;
   void restore(const io::Checkpoint& checkpoint);
   void save(const std::filesystem::path& path) const;
 
