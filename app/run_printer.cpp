@@ -190,8 +190,7 @@ void print_probes(const scene::Scene& s, const sim::ProbeTable& table) {
                 p.von_mises, p.pressure);
   }
   if (!table.last_reactions()) {
-    if (!s.constraints.empty())
-      std::printf("reactions: not computed for the co-rotated grid model\n");
+    if (!s.constraints.empty()) std::printf("reactions: not computed for this run\n");
     return;
   }
   const auto& reactions = *table.last_reactions();

@@ -129,7 +129,8 @@ void build_band_local(Level<Dim, Scalar>& level) {
 }
 
 template <int Dim, typename Scalar>
-void band_local_sweeps(Level<Dim, Scalar>& level, int sweeps) {
+void band_local_sweeps(Level<Dim, Scalar>& level, int sweeps,
+                       const typename Level<Dim, Scalar>::RowSchedule* rows) {
   BandLocal<Dim, Scalar>& local = level.band_local;
   Scalar* xl = local.x.data();
   const auto& gather = local.gather;
@@ -147,7 +148,15 @@ void band_local_sweeps(Level<Dim, Scalar>& level, int sweeps) {
                                      level.band_blocks.data(),
                                      level.band_block_inverse.data(),
                                      level.band_block_inverse_id.data()};
-  for (int sweep = 0; sweep < sweeps; ++sweep) {
+  for (int sweep = 0; sweep < sweeps && rows; ++sweep) {
+    for (const auto& color : *rows) {
+      const auto count = static_cast<std::ptrdiff_t>(color.size());
+#pragma omp parallel for schedule(dynamic, 1)
+      for (std::ptrdiff_t b = 0; b < count; ++b)
+        for (std::uint32_t m : color[b]) band.relax_row(m);
+    }
+  }
+  for (int sweep = 0; sweep < sweeps && !rows; ++sweep) {
     // The blocks of one color touch disjoint variables (block_partition.hpp).
     for (const auto& color : level.band_schedule) {
       const auto count = static_cast<std::ptrdiff_t>(color.size());
@@ -170,10 +179,11 @@ void band_local_sweeps(Level<Dim, Scalar>& level, int sweeps) {
   }
 }
 
-#define MGELASTIC_INSTANTIATE(D, S)                   \
-  template struct BandLocal<D, S>;                    \
-  template void build_band_local<D, S>(Level<D, S>&); \
-  template void band_local_sweeps<D, S>(Level<D, S>&, int);
+#define MGELASTIC_INSTANTIATE(D, S)                        \
+  template struct BandLocal<D, S>;                         \
+  template void build_band_local<D, S>(Level<D, S>&);      \
+  template void band_local_sweeps<D, S>(Level<D, S>&, int, \
+                                        const typename Level<D, S>::RowSchedule*);
 MGELASTIC_INSTANTIATE(2, float)
 MGELASTIC_INSTANTIATE(2, double)
 MGELASTIC_INSTANTIATE(3, float)

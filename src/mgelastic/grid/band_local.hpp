@@ -55,9 +55,11 @@ struct BandLocal {
 template <int Dim, typename Scalar>
 void build_band_local(Level<Dim, Scalar>& level);
 
-// `sweeps` sweeps of Level::band_schedule on the compact vector (gather, sweeps, scatter).
-// kernel.rhs must hold b - constant (band_gauss_seidel refreshes it).
+// `sweeps` sweeps of Level::band_schedule (or, when `rows` is given, point sweeps over that row
+// schedule, e.g. the Fig. 8 rows) on the compact vector: gather, sweeps, scatter. kernel.rhs
+// must hold b - constant for the rows swept (band_gauss_seidel refreshes it).
 template <int Dim, typename Scalar>
-void band_local_sweeps(Level<Dim, Scalar>& level, int sweeps);
+void band_local_sweeps(Level<Dim, Scalar>& level, int sweeps,
+                       const typename Level<Dim, Scalar>::RowSchedule* rows = nullptr);
 
 }  // namespace mgelastic::grid

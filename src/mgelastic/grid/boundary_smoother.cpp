@@ -155,6 +155,10 @@ void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps,
   for_each_block([&](const std::vector<std::uint32_t>& rows) {
     for (std::uint32_t m : rows) rhs[m] = band_rhs(level, m);
   });
+  if (level.band_local.valid_for(level.band_kernel.rows())) {
+    band_local_sweeps(level, sweeps, &schedule);
+    return;
+  }
   for (int sweep = 0; sweep < sweeps; ++sweep)
     for_each_block([&](const std::vector<std::uint32_t>& rows) {
       for (std::uint32_t m : rows) band.relax_row(m);
