@@ -3,6 +3,7 @@
 #include <random>
 
 #include "grid_test_support.hpp"
+#include "mgelastic/core/threads.hpp"
 #include "mgelastic/grid/box_problem.hpp"
 #include "mgelastic/grid/distributive_smoother.hpp"
 #include "mgelastic/grid/level.hpp"
@@ -13,21 +14,22 @@ namespace mgelastic::grid {
 namespace {
 
 // Level of a Dirichlet-walled box with random unknowns and right-hand side.
-Level<3, double> random_level(double poisson, unsigned seed, double inertia = 0.0) {
+template <typename Scalar = double>
+Level<3, Scalar> random_level(double poisson, unsigned seed, double inertia = 0.0, int cells = 12) {
   BoxSpec spec;
-  spec.cells = 12;
+  spec.cells = cells;
   spec.poisson_ratio = poisson;
   spec.boundary = BoxBoundary::DIRICHLET;
   const auto problem = make_box_problem<3>(spec);
-  auto level = build_level<3, double>(problem.lattice, problem.cells, problem.material, {}, nullptr,
+  auto level = build_level<3, Scalar>(problem.lattice, problem.cells, problem.material, {}, nullptr,
                                       inertia);
   std::mt19937 rng(seed);
   std::normal_distribution<double> normal;
   for (int f = 0; f <= 3; ++f) {
     for (std::size_t k = 0; k < level.size(); ++k) {
       if (level.kind[f][k] != VarKind::INTERIOR) continue;
-      level.x[f][k] = 1e-3 * normal(rng);
-      level.b[f][k] = normal(rng);
+      level.x[f][k] = static_cast<Scalar>(1e-3 * normal(rng));
+      level.b[f][k] = static_cast<Scalar>(normal(rng));
     }
   }
   return level;
@@ -150,6 +152,32 @@ TEST(DistributiveSweep, RowWiseKernelEqualsPointByPointSweep) {
     EXPECT_GT(moved, 0.1 * scale) << "the sweep must move the unknowns";
     EXPECT_LE(difference, 1e-12 * scale) << "inertia " << inertia;
   }
+}
+
+// Blocks of one color run concurrently, each relaxed by one thread with its own row-chunk
+// recurrences: the values must not depend on which thread gets which block (bit for bit, float
+// and double, with several blocks per color on 40^3).
+template <typename Scalar>
+void expect_sweep_independent_of_thread_count() {
+  auto serial = random_level<Scalar>(0.48, 13, 0.0, 40);
+  auto parallel = serial;
+  ASSERT_GT(serial.blocks.colors[0].size(), 1u);
+  set_thread_count(1);
+  for (int sweep = 0; sweep < 2; ++sweep) distributive_sweep(serial);
+  set_thread_count(2);
+  for (int sweep = 0; sweep < 2; ++sweep) distributive_sweep(parallel);
+  set_thread_count(0);
+  for (int f = 0; f <= 3; ++f)
+    for (std::size_t k = 0; k < serial.size(); ++k)
+      ASSERT_EQ(serial.x[f][k], parallel.x[f][k]) << "field " << f << " index " << k;
+}
+
+TEST(DistributiveSweep, DoesNotDependOnThreadCountInFloat) {
+  expect_sweep_independent_of_thread_count<float>();
+}
+
+TEST(DistributiveSweep, DoesNotDependOnThreadCountInDouble) {
+  expect_sweep_independent_of_thread_count<double>();
 }
 
 }  // namespace
