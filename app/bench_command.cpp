@@ -78,6 +78,14 @@ grid::MultigridOptions multigrid_options(const BoxBenchOptions& o) {
   } else {
     throw Error("must be 'V' or 'W' (got '" + o.cycle + "')", {.pointer = "--cycle"});
   }
+  if (o.band_layers >= 0) options.band_layers = o.band_layers;
+  if (o.relocation_sweeps >= 0) options.relocation_sweeps = o.relocation_sweeps;
+  options.max_levels = o.max_levels;
+  if (o.coarsest_min_cells >= 0) options.coarsest_min_cells = o.coarsest_min_cells;
+  if (o.coarsest_max_boundary_fraction >= 0)
+    options.coarsest_max_boundary_fraction = o.coarsest_max_boundary_fraction;
+  options.coarse_fill_weights = !o.no_coarse_fill_weights;
+  options.repair_coarse_cells = !o.no_repair_coarse_cells;
   return options;
 }
 
@@ -348,9 +356,12 @@ nlohmann::json mesh_vcycle(const std::string& file, int resolution, const BoxBen
   const scene::GridSetup setup =
       scene::build_grid_setup(scene::parse_scene(document, "bench.json", "."));
   grid::MultigridOptions options = multigrid_options(o);
-  options.band_layers = 1;  // the scenes' default
+  if (o.band_layers < 0) options.band_layers = 1;  // the scenes' default
   grid::Multigrid<3, float> mg(setup.problem, options);
+  // Process CPU seconds too: rates and CPU time per cycle do not depend on the machine's load.
+  const double cpu = process_cpu_seconds();
   const grid::SolveReport report = mg.run_cycles(o.cycles);
+  const double cycle_cpu = (process_cpu_seconds() - cpu) / std::max(1, report.cycles());
   nlohmann::json record = {{"benchmark", "convergence"},
                            {"mesh", file},
                            {"dim", 3},
@@ -365,6 +376,7 @@ nlohmann::json mesh_vcycle(const std::string& file, int resolution, const BoxBen
                            {"residuals", report.residuals},
                            {"rate", grid::convergence_rate(report.residuals, rate_floor(o))}};
   add_cycle_fields(record, mg, report, o.triad_gb_per_s);
+  record["vcycle_cpu_seconds"] = cycle_cpu;
   if (o.error_history) {
     const grid::ErrorHistory history =
         grid::error_history<3, float>(setup.problem, options, o.cycles);
@@ -414,6 +426,14 @@ void print_profile_summary(const nlohmann::json& records, const BoxBenchOptions&
   }
   std::printf("\n%-20s", "total per V-cycle");
   for (const auto& r : records) std::printf(" | %9.4f", r["vcycle_seconds"].get<double>());
+  if (std::any_of(records.begin(), records.end(),
+                  [](const auto& r) { return r.contains("vcycle_cpu_seconds"); })) {
+    std::printf("\n%-20s", "CPU s per V-cycle");
+    for (const auto& r : records)
+      r.contains("vcycle_cpu_seconds")
+          ? (void)std::printf(" | %9.4f", r["vcycle_cpu_seconds"].get<double>())
+          : (void)std::printf(" | %9s", "-");
+  }
   std::printf("\n%-20s", "rate");
   for (const auto& r : records) std::printf(" | %9.3f", r["rate"].get<double>());
   if (std::any_of(records.begin(), records.end(),
@@ -781,6 +801,23 @@ void register_bench_commands(CLI::App& app) {
                      "float (mixed: solution in double), single (float only) or double");
   vcycle->add_option("--cycles", profile_options.cycles, "V-cycles per run");
   vcycle->add_option("--cycle", profile_options.cycle, "V or W");
+  // Multigrid knobs for rate studies (MultigridOptions in grid/multigrid.hpp).
+  vcycle->add_option("--boundary-sweeps", profile_options.boundary_sweeps,
+                     "Band Gauss-Seidel sweeps per smoothing (0 = paper default for nu)");
+  vcycle->add_option("--band-layers", profile_options.band_layers,
+                     "Extra cell layers in the band (default: 1 for --mesh, 0 for the box)");
+  vcycle->add_option("--relocation-sweeps", profile_options.relocation_sweeps,
+                     "Fig. 8 band sweeps before restriction / after prolongation (default 2)");
+  vcycle->add_option("--max-levels", profile_options.max_levels, "Levels at most (0 = no limit)");
+  vcycle->add_option("--coarsest-min-cells", profile_options.coarsest_min_cells,
+                     "Cells along the longest axis a coarse level keeps at least (default 16)");
+  vcycle->add_option("--coarsest-max-boundary-fraction",
+                     profile_options.coarsest_max_boundary_fraction,
+                     "Stop before a level with more body cells next to the exterior (default 0.5)");
+  vcycle->add_flag("--no-coarse-fill-weights", profile_options.no_coarse_fill_weights,
+                   "The paper's unweighted coarse operator");
+  vcycle->add_flag("--no-repair-coarse-cells", profile_options.no_repair_coarse_cells,
+                   "Coarse typings without the repair of hinges and sheets");
   vcycle->add_flag("--json", profile_options.json, "Print JSON instead of a table");
   static std::vector<std::string> profile_meshes;
   static int profile_resolution = 128;

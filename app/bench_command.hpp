@@ -24,6 +24,15 @@ struct BoxBenchOptions {
   bool skip_cg = false;
   // bench vcycle: STREAM triad of this run (GB/s); > 0 adds the roofline to the record.
   double triad_gb_per_s = 0;
+  // bench vcycle: MultigridOptions for studies of the rate (a negative value keeps the default;
+  // band_layers: 1 for --mesh, the scenes' default, and 0 for the box).
+  int band_layers = -1;
+  int relocation_sweeps = -1;
+  int max_levels = 0;
+  int coarsest_min_cells = -1;
+  double coarsest_max_boundary_fraction = -1;
+  bool no_coarse_fill_weights = false;
+  bool no_repair_coarse_cells = false;
 };
 
 void register_bench_commands(CLI::App& app);
