@@ -67,7 +67,7 @@ template <int Dim, typename Scalar>
 void build_band_kernel(Level<Dim, Scalar>& level);
 
 // Frees band_u's CSR rows, Schur diagonals and pressure factors (all held by the kernel). Only
-// after everything built from them (blocks, schedules, the band-local vector) exists.
+// after everything built from them (blocks, schedules, runs) exists.
 template <int Dim, typename Scalar>
 void drop_band_csr(Level<Dim, Scalar>& level);
 

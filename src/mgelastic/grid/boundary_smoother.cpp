@@ -83,6 +83,37 @@ struct BandSweep {
   }
 };
 
+// One sweep over a run schedule (band_runs.hpp): per color, the blocks in parallel, each
+// block's items in order.
+template <int Dim, typename Scalar>
+void relax_items(const Level<Dim, Scalar>& level, const BandSweep<Dim, Scalar>& band,
+                 const typename BandRuns<Dim, Scalar>::Schedule& schedule) {
+  const BandRuns<Dim, Scalar>& runs = level.band_runs;
+  for (const auto& color : schedule) {
+    const auto count = static_cast<std::ptrdiff_t>(color.size());
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::ptrdiff_t b = 0; b < count; ++b) {
+      for (const std::uint32_t item : color[b]) {
+        const std::uint32_t index = item & kBandItemIndexMask;
+        switch (static_cast<BandItem>(item & ~kBandItemIndexMask)) {
+          case BandItem::RUN: {
+            const BandRun& run = runs.runs[index];
+            relax_band_run<Dim, Scalar>(band.x, band.kernel, runs.shapes[run.shape], run,
+                                        runs.rows.data());
+            break;
+          }
+          case BandItem::CELL_BLOCK:
+            band.relax_block(level.band_blocks[index], index);
+            break;
+          case BandItem::POINT_ROW:
+            band.relax_row(index);
+            break;
+        }
+      }
+    }
+  }
+}
+
 // kernel.rhs[m] = b - constant of row m (b is fixed during the sweeps).
 template <int Dim, typename Scalar>
 void refresh_band_rhs(Level<Dim, Scalar>& level, const std::vector<std::uint32_t>* subset) {
@@ -115,14 +146,13 @@ void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps,
   update_band_pressures(level);
   refresh_band_kernel(level);
   refresh_band_rhs(level, subset);
-  if (!subset && level.band_local.valid_for(level.band_kernel.rows())) {
-    band_local_sweeps(level, sweeps);
-    return;
-  }
   const BandSweep<Dim, Scalar> band(level);
+  const BandRuns<Dim, Scalar>& runs = level.band_runs;
   for (int sweep = 0; sweep < sweeps; ++sweep) {
     if (subset) {
       for (std::uint32_t m : *subset) band.relax_row(m);
+    } else if (runs.valid_for(level.band_kernel.rows())) {
+      relax_items(level, band, runs.schedule);
     } else {
       // Colored blocks: the blocks of one color touch disjoint variables.
       for (const auto& color : level.band_schedule) {
@@ -155,10 +185,6 @@ void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps,
   for_each_block([&](const std::vector<std::uint32_t>& rows) {
     for (std::uint32_t m : rows) rhs[m] = band_rhs(level, m);
   });
-  if (level.band_local.valid_for(level.band_kernel.rows())) {
-    band_local_sweeps(level, sweeps, &schedule);
-    return;
-  }
   for (int sweep = 0; sweep < sweeps; ++sweep)
     for_each_block([&](const std::vector<std::uint32_t>& rows) {
       for (std::uint32_t m : rows) band.relax_row(m);

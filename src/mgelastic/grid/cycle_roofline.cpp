@@ -32,39 +32,26 @@ double sparse_rows_bytes(const SparseRows<Scalar>& rows, double per_row_scalars)
          entries * (kField + kIndex + S);
 }
 
-// Band momentum rows relaxed on the compact vector (band_local.hpp): per relaxation the row's
-// pattern, rhs, local target, first column and pressures, and one local column per entry; the
-// compact vector's values stay in cache. A cell block relaxes each of its rows, so a row shared
-// by two blocks counts twice.
+// Band momentum rows relaxed once each: compact row (pattern, target, field), rhs, own variable
+// read + write, eliminated pressures read + write.
 template <int Dim, typename Scalar>
-double band_row_relaxations(const Level<Dim, Scalar>& level,
+double band_row_relaxations(const Level<Dim, Scalar>& level, std::size_t count_rows,
                             const std::vector<std::uint32_t>* subset) {
   constexpr double S = sizeof(Scalar);
   const BandKernel<Scalar>& kernel = level.band_kernel;
-  double bytes = 0;
+  double pressures = 0;
   auto add = [&](std::uint32_t m) {
-    if (m >= kernel.pattern.size()) return;
-    const std::uint32_t p = kernel.pattern[m];
-    bytes += 5 * kIndex + S + kIndex * (kernel.start[p + 1] - kernel.start[p]);
+    if (m < kernel.pattern.size()) pressures += kernel.pressure_count[kernel.pattern[m]];
   };
   if (subset) {
     for (std::uint32_t m : *subset) add(m);
-    return bytes;
+  } else {
+    for (std::uint32_t m = 0; m < kernel.pattern.size(); ++m) add(m);
   }
-  for (const auto& color : level.band_schedule) {
-    for (const auto& work : color) {
-      for (std::uint32_t e : work.cell_blocks)
-        for (std::uint32_t m : level.band_blocks[e])
-          if (m != UINT32_MAX) add(m);
-      for (std::uint32_t m : work.point_rows) add(m);
-    }
-  }
-  return bytes;
+  return static_cast<double>(count_rows) * (2 * kIndex + kField + 3 * S) + pressures * 2 * S;
 }
 
-// A band_gauss_seidel call over `subset` (all band rows when null): the exact pressure update,
-// the rows' right-hand sides, the gather into the compact vector and the scatter back (index,
-// lattice value, compact value each way), the sweeps.
+// A band_gauss_seidel call over `subset` (all band rows when null).
 template <int Dim, typename Scalar>
 double band_call_bytes(const Level<Dim, Scalar>& level, int sweeps,
                        const std::vector<std::uint32_t>* subset) {
@@ -73,8 +60,7 @@ double band_call_bytes(const Level<Dim, Scalar>& level, int sweeps,
   // The exact pressure update: band_p rows with their inverse, p written.
   const double pressures = sparse_rows_bytes(level.band_p, 1) + bytes_of(level.band_p_inverse);
   const double refresh = static_cast<double>(rows) * (kField + kIndex + 3 * S);  // b, constant
-  const double transfer = 2 * static_cast<double>(level.band_local.x.size()) * (kIndex + 2 * S);
-  return pressures + refresh + transfer + sweeps * band_row_relaxations(level, subset);
+  return pressures + refresh + sweeps * band_row_relaxations(level, rows, subset);
 }
 
 template <int Dim, typename Scalar>

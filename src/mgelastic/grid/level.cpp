@@ -594,7 +594,7 @@ std::vector<ByteShare> Level<Dim, Scalar>::byte_breakdown() const {
       {"band blocks, inverses, points",
        sum(band_blocks, band_block_inverse, band_block_inverse_id, band_point_rows)},
       {"band kernel (patterns)", band_kernel.bytes()},
-      {"band local vector", band_local.bytes()},
+      {"band runs", band_runs.bytes()},
       {"schedules, Fig. 8 rows", schedules},
       {"block partition", nested(blocks.colors)},
       {"traction rules", rules},
@@ -666,7 +666,7 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
   build_band_kernel(level);
   level.blocks = partition_into_blocks(level.lattice);
   build_band_schedule(level);
-  build_band_local(level);
+  build_band_runs(level);
   build_traction_rules(level, sigma);
   shrink_band_arrays(level);
   return level;

@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "mgelastic/grid/band_kernel.hpp"
-#include "mgelastic/grid/band_local.hpp"
+#include "mgelastic/grid/band_runs.hpp"
 #include "mgelastic/grid/block_partition.hpp"
 #include "mgelastic/grid/lattice.hpp"
 #include "mgelastic/grid/material.hpp"
@@ -165,9 +165,9 @@ struct Level {
   // pre_restriction_rows and post_prolongation_rows as colored schedules, so that their extra
   // sweeps run in parallel too.
   RowSchedule pre_restriction_schedule, post_prolongation_schedule;
-  // band_schedule on a compact band-local vector (band_local.hpp); rebuild with
-  // build_band_local after the band rows change (invalid ones are not used).
-  BandLocal<Dim, Scalar> band_local;
+  // band_schedule with runs of equally shaped steps along x relaxed together (band_runs.hpp);
+  // rebuild with build_band_runs after the band rows change (invalid ones are not used).
+  BandRuns<Dim, Scalar> band_runs;
 
   std::size_t size() const { return lattice.size(); }
   std::uint32_t global(int field, std::ptrdiff_t k) const {

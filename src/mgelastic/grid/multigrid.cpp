@@ -66,7 +66,7 @@ bool may_coarsen(const Lattice<Dim>& lattice, const std::vector<CellType>& cells
 // x and b, takes corrections and back-substitutes traction values; its residual goes straight
 // into the float level's right-hand side (residual_into), so it needs no r (update_residual
 // allocates one if a caller asks, e.g. the FGMRES solve). What only the band sweeps read (the
-// sweeps' right-hand sides, compact vector, blocks and their inverses, colored schedules, Fig. 8 row sets)
+// sweeps' right-hand sides, runs, blocks and their inverses, colored schedules, Fig. 8 row sets)
 // would double the band's memory, so it is dropped after the build (the block partition itself
 // is a few hundred bytes).
 template <int Dim>
@@ -76,7 +76,7 @@ void release_sweep_data(Level<Dim, double>& level) {
   release(level.r, level.pre_restriction_rows, level.post_prolongation_rows, level.band_blocks,
           level.band_block_inverse, level.band_block_inverse_id, level.band_point_rows,
           level.band_kernel.rhs, level.band_schedule, level.pre_restriction_schedule,
-          level.post_prolongation_schedule, level.band_local);
+          level.post_prolongation_schedule, level.band_runs);
   drop_band_csr(level);
 }
 

@@ -1,0 +1,290 @@
+#include "mgelastic/grid/band_runs.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+#include <unordered_map>
+
+#include "mgelastic/core/bytes.hpp"
+#include "mgelastic/grid/level.hpp"
+
+namespace mgelastic::grid {
+namespace {
+
+// One step of a block's sweep: a cell block (members solved together) or the point rows of one
+// location (relaxed in order).
+template <int Dim>
+struct Step {
+  bool cell_block = false;
+  std::uint32_t index = 0;  // band_blocks index, or 0 for a point group
+  int members = 0;
+  std::array<std::uint32_t, 2 * Dim> rows{};
+};
+
+template <int Dim, typename Scalar>
+std::ptrdiff_t step_target(const Level<Dim, Scalar>& level, const Step<Dim>& step) {
+  return level.band_kernel.target[step.rows[0]];
+}
+
+// Bytes that identify a step's shape: equal keys give equal couplings and weights.
+template <int Dim, typename Scalar>
+void shape_key(const Level<Dim, Scalar>& level, const Step<Dim>& step, std::string& key) {
+  constexpr int G = 2 * Dim;
+  const auto& kernel = level.band_kernel;
+  key.clear();
+  append_bytes(key, step.cell_block);
+  append_bytes(key, step.members);
+  const std::ptrdiff_t self = step_target(level, step);
+  for (int a = 0; a < step.members; ++a) {
+    const std::uint32_t m = step.rows[a];
+    append_bytes(key, kernel.pattern[m]);
+    append_bytes(key, kernel.field[m]);
+    append_bytes(key, static_cast<std::int32_t>(kernel.target[m] - self));
+  }
+  if (step.cell_block)
+    key.append(reinterpret_cast<const char*>(level.block_inverse(step.index)),
+               G * G * sizeof(Scalar));
+}
+
+// Couplings, weights and reach of a step's shape (see band_runs.hpp), summed in double.
+template <int Dim, typename Scalar>
+BandRunShape<Dim, Scalar> make_shape(const Level<Dim, Scalar>& level, const Step<Dim>& step) {
+  constexpr int G = 2 * Dim;
+  const auto& kernel = level.band_kernel;
+  BandRunShape<Dim, Scalar> shape;
+  shape.members = step.members;
+  const std::ptrdiff_t self = step_target(level, step);
+  for (int a = 0; a < step.members; ++a) {
+    const std::uint32_t m = step.rows[a];
+    shape.pattern[a] = kernel.pattern[m];
+    shape.field[a] = kernel.field[m];
+    shape.offset[a] = static_cast<std::int32_t>(kernel.target[m] - self);
+  }
+  // coupling[j][a][b]: d r_a(step s) / d delta_b(step s - j), for j < kBandRunMaxLength.
+  std::vector<std::array<double, G * G>> coupling(kBandRunMaxLength, std::array<double, G * G>{});
+  auto add = [&](std::ptrdiff_t lag, int a, int b, double value) {
+    if (lag >= 0 && lag < kBandRunMaxLength) coupling[lag][a * G + b] += value;
+  };
+  for (int a = 0; a < step.members; ++a) {
+    const std::uint32_t pa = shape.pattern[a];
+    for (std::uint32_t e = kernel.start[pa]; e < kernel.start[pa + 1]; ++e) {
+      const std::ptrdiff_t read = shape.offset[a] + kernel.entry_offset[e];
+      const double value = kernel.entry_value[e];
+      for (int b = 0; b < step.members; ++b) {
+        const std::uint32_t pb = shape.pattern[b];
+        if (kernel.entry_field[e] == shape.field[b]) add(shape.offset[b] - read, a, b, value);
+        if (kernel.entry_field[e] != Dim) continue;
+        for (int c = 0; c < kernel.pressure_count[pb]; ++c)
+          add(shape.offset[b] + kernel.pressure_offset[pb][c] - read, a, b,
+              -value * static_cast<double>(kernel.pressure_factor[pb][c]));
+      }
+    }
+  }
+  for (int lag = 1; lag < kBandRunMaxLength; ++lag) {
+    const bool coupled =
+        std::any_of(coupling[lag].begin(), coupling[lag].end(), [](double v) { return v != 0; });
+    if (!coupled) continue;
+    if (lag <= kBandRunMaxLag) {
+      shape.lags = lag;
+      for (int i = 0; i < G * G; ++i)
+        shape.coupling[lag - 1][i] = static_cast<Scalar>(coupling[lag][i]);
+    } else {
+      shape.max_length = std::min(shape.max_length, lag);
+    }
+  }
+  if (step.cell_block) {
+    std::copy_n(level.block_inverse(step.index), G * G, shape.weight.begin());
+    return shape;
+  }
+  // Point group: row a sees the earlier rows of its location, (D + L_0) delta = r0; W is its
+  // inverse, by forward substitution on the unit vectors.
+  const int g = step.members;
+  for (int col = 0; col < g; ++col) {
+    std::array<double, G> w{};
+    for (int a = 0; a < g; ++a) {
+      double rhs = a == col ? 1.0 : 0.0;
+      for (int b = 0; b < a; ++b) rhs -= coupling[0][a * G + b] * w[b];
+      w[a] = rhs / static_cast<double>(kernel.schur_diagonal[shape.pattern[a]]);
+    }
+    for (int a = 0; a < g; ++a) shape.weight[a * G + col] = static_cast<Scalar>(w[a]);
+  }
+  return shape;
+}
+
+template <int Dim, typename Scalar>
+std::vector<Step<Dim>> block_steps(const Level<Dim, Scalar>& level,
+                                   const std::vector<std::uint32_t>& cell_blocks,
+                                   const std::vector<std::uint32_t>& point_rows) {
+  std::vector<Step<Dim>> steps;
+  for (std::uint32_t e : cell_blocks) {
+    Step<Dim> step;
+    step.cell_block = true;
+    step.index = e;
+    for (std::uint32_t m : level.band_blocks[e]) {
+      if (m == UINT32_MAX) break;
+      step.rows[step.members++] = m;
+    }
+    steps.push_back(step);
+  }
+  const auto& target = level.band_kernel.target;
+  for (std::size_t i = 0; i < point_rows.size();) {
+    Step<Dim> step;
+    const std::uint32_t first = point_rows[i];
+    while (i < point_rows.size() && target[point_rows[i]] == target[first])
+      step.rows[step.members++] = point_rows[i++];
+    steps.push_back(step);
+  }
+  return steps;
+}
+
+}  // namespace
+
+template <int Dim, typename Scalar>
+std::size_t BandRuns<Dim, Scalar>::bytes() const {
+  std::size_t total = vector_bytes(shapes) + vector_bytes(runs) + vector_bytes(rows);
+  for (const auto& color : schedule)
+    for (const auto& block : color) total += vector_bytes(block);
+  return total;
+}
+
+template <int Dim, typename Scalar>
+void build_band_runs(Level<Dim, Scalar>& level) {
+  BandRuns<Dim, Scalar> runs;
+  std::unordered_map<std::string, std::uint32_t> ids;
+  std::string key;
+  // Appends a block's items: runs of >= kBandRunMinLength equally shaped steps one cell apart
+  // along x, the other steps one by one.
+  auto add_items = [&](const std::vector<Step<Dim>>& steps, std::vector<std::uint32_t>& items) {
+    std::vector<std::uint32_t> shape_of(steps.size());
+    for (std::size_t i = 0; i < steps.size(); ++i) {
+      shape_key(level, steps[i], key);
+      const auto [it, added] = ids.try_emplace(key, static_cast<std::uint32_t>(ids.size()));
+      if (added) runs.shapes.push_back(make_shape(level, steps[i]));
+      shape_of[i] = it->second;
+    }
+    for (std::size_t i = 0; i < steps.size();) {
+      const auto& shape = runs.shapes[shape_of[i]];
+      std::size_t end = i + 1;
+      while (end < steps.size() && shape_of[end] == shape_of[i] &&
+             static_cast<int>(end - i) < shape.max_length &&
+             step_target(level, steps[end]) == step_target(level, steps[end - 1]) + 1)
+        ++end;
+      const auto length = static_cast<int>(end - i);
+      const bool run = length >= kBandRunMinLength;
+      runs.steps += length;
+      runs.row_relaxations += static_cast<std::size_t>(length) * shape.members;
+      if (run) {
+        runs.steps_in_runs += length;
+        runs.row_relaxations_in_runs += static_cast<std::size_t>(length) * shape.members;
+      }
+      if (run) {
+        items.push_back(static_cast<std::uint32_t>(BandItem::RUN) |
+                        static_cast<std::uint32_t>(runs.runs.size()));
+        runs.runs.push_back({shape_of[i], static_cast<std::uint32_t>(length),
+                             static_cast<std::uint32_t>(runs.rows.size()),
+                             step_target(level, steps[i])});
+        for (std::size_t s = i; s < end; ++s)
+          runs.rows.insert(runs.rows.end(), steps[s].rows.begin(),
+                           steps[s].rows.begin() + steps[s].members);
+      } else {
+        for (std::size_t s = i; s < end; ++s) {
+          if (steps[s].cell_block) {
+            items.push_back(static_cast<std::uint32_t>(BandItem::CELL_BLOCK) | steps[s].index);
+          } else {
+            for (int a = 0; a < steps[s].members; ++a)
+              items.push_back(static_cast<std::uint32_t>(BandItem::POINT_ROW) | steps[s].rows[a]);
+          }
+        }
+      }
+      i = end;
+    }
+  };
+  for (int c = 0; c < (1 << Dim); ++c) {
+    runs.schedule[c].resize(level.band_schedule[c].size());
+    for (std::size_t w = 0; w < level.band_schedule[c].size(); ++w) {
+      const auto& work = level.band_schedule[c][w];
+      add_items(block_steps(level, work.cell_blocks, work.point_rows), runs.schedule[c][w]);
+    }
+  }
+  runs.band_rows = level.band_kernel.rows();
+  level.band_runs = std::move(runs);
+}
+
+template <int Dim, typename Scalar>
+void relax_band_run(const std::array<Scalar*, Dim + 1>& x, const BandKernel<Scalar>& kernel,
+                    const BandRunShape<Dim, Scalar>& shape, const BandRun& run,
+                    const std::uint32_t* rows) {
+  constexpr int G = 2 * Dim;
+  constexpr int K = kBandRunMaxLag;
+  const int length = static_cast<int>(run.length);
+  const int members = shape.members;
+  const std::uint32_t* run_rows = rows + run.first_row;
+  // Pass 1: every member's residual at every step from the values before the run, summed in
+  // the pattern's entry order like the step-by-step sweep.
+  alignas(32) Scalar r[G][kBandRunMaxLength];
+  for (int a = 0; a < G; ++a) {
+    if (a >= members) {
+      std::fill_n(r[a], length, Scalar(0));
+      continue;
+    }
+    alignas(32) Scalar sum[kBandRunMaxLength] = {};
+    const std::ptrdiff_t base = run.target + shape.offset[a];
+    const std::uint32_t p = shape.pattern[a];
+    for (std::uint32_t e = kernel.start[p]; e < kernel.start[p + 1]; ++e) {
+      const Scalar value = kernel.entry_value[e];
+      const Scalar* __restrict xe = x[kernel.entry_field[e]] + base + kernel.entry_offset[e];
+#pragma omp simd
+      for (int s = 0; s < length; ++s) sum[s] += value * xe[s];
+    }
+    for (int s = 0; s < length; ++s) r[a][s] = kernel.rhs[run_rows[s * members + a]] - sum[s];
+  }
+  // Pass 2: the recurrence through the last J steps' deltas (delta[.][K + s] is step s).
+  alignas(32) Scalar delta[G][K + kBandRunMaxLength];
+  for (int a = 0; a < G; ++a)
+    for (int j = 0; j < K; ++j) delta[a][j] = 0;
+  const int lags = shape.lags;
+  for (int s = 0; s < length; ++s) {
+    Scalar rr[G];
+    for (int a = 0; a < G; ++a) rr[a] = r[a][s];
+    for (int j = 1; j <= lags; ++j) {
+      const Scalar* c = shape.coupling[j - 1].data();
+      for (int a = 0; a < G; ++a)
+        for (int b = 0; b < G; ++b) rr[a] -= c[a * G + b] * delta[b][K + s - j];
+    }
+    const Scalar* w = shape.weight.data();
+    for (int a = 0; a < G; ++a) {
+      Scalar d = 0;
+      for (int b = 0; b < G; ++b) d += w[a * G + b] * rr[b];
+      delta[a][K + s] = d;
+    }
+  }
+  // Pass 3: move every member's variable and keep its eliminated pressures exact.
+  for (int a = 0; a < members; ++a) {
+    const std::ptrdiff_t base = run.target + shape.offset[a];
+    const Scalar* __restrict d = delta[a] + K;
+    Scalar* __restrict xa = x[shape.field[a]] + base;
+#pragma omp simd
+    for (int s = 0; s < length; ++s) xa[s] += d[s];
+    const std::uint32_t p = shape.pattern[a];
+    for (int c = 0; c < kernel.pressure_count[p]; ++c) {
+      const Scalar factor = kernel.pressure_factor[p][c];
+      Scalar* __restrict pa = x[Dim] + base + kernel.pressure_offset[p][c];
+#pragma omp simd
+      for (int s = 0; s < length; ++s) pa[s] -= factor * d[s];
+    }
+  }
+}
+
+#define MGELASTIC_INSTANTIATE(D, S)                                                      \
+  template struct BandRuns<D, S>;                                                        \
+  template void build_band_runs<D, S>(Level<D, S>&);                                     \
+  template void relax_band_run<D, S>(const std::array<S*, D + 1>&, const BandKernel<S>&, \
+                                     const BandRunShape<D, S>&, const BandRun&,          \
+                                     const std::uint32_t*);
+MGELASTIC_INSTANTIATE(2, float)
+MGELASTIC_INSTANTIATE(2, double)
+MGELASTIC_INSTANTIATE(3, float)
+MGELASTIC_INSTANTIATE(3, double)
+#undef MGELASTIC_INSTANTIATE
+
+}  // namespace mgelastic::grid
