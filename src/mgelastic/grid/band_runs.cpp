@@ -28,10 +28,12 @@ std::ptrdiff_t step_target(const Level<Dim, Scalar>& level, const Step<Dim>& ste
 
 // Bytes that identify a step's shape: equal keys give equal couplings and weights.
 template <int Dim, typename Scalar>
-void shape_key(const Level<Dim, Scalar>& level, const Step<Dim>& step, std::string& key) {
+void shape_key(const Level<Dim, Scalar>& level, const Step<Dim>& step, std::ptrdiff_t stride,
+               std::string& key) {
   constexpr int G = 2 * Dim;
   const auto& kernel = level.band_kernel;
   key.clear();
+  append_bytes(key, stride);
   append_bytes(key, step.cell_block);
   append_bytes(key, step.members);
   const std::ptrdiff_t self = step_target(level, step);
@@ -48,7 +50,8 @@ void shape_key(const Level<Dim, Scalar>& level, const Step<Dim>& step, std::stri
 
 // Couplings, weights and reach of a step's shape (see band_runs.hpp), summed in double.
 template <int Dim, typename Scalar>
-BandRunShape<Dim, Scalar> make_shape(const Level<Dim, Scalar>& level, const Step<Dim>& step) {
+BandRunShape<Dim, Scalar> make_shape(const Level<Dim, Scalar>& level, const Step<Dim>& step,
+                                     std::ptrdiff_t stride) {
   constexpr int G = 2 * Dim;
   const auto& kernel = level.band_kernel;
   BandRunShape<Dim, Scalar> shape;
@@ -60,9 +63,12 @@ BandRunShape<Dim, Scalar> make_shape(const Level<Dim, Scalar>& level, const Step
     shape.field[a] = kernel.field[m];
     shape.offset[a] = static_cast<std::int32_t>(kernel.target[m] - self);
   }
-  // coupling[j][a][b]: d r_a(step s) / d delta_b(step s - j), for j < kBandRunMaxLength.
+  // coupling[j][a][b]: d r_a(step s) / d delta_b(step s - j), for j < kBandRunMaxLength. Step
+  // s - j lies j * stride entries before step s; reads between the steps' lines couple to none.
   std::vector<std::array<double, G * G>> coupling(kBandRunMaxLength, std::array<double, G * G>{});
-  auto add = [&](std::ptrdiff_t lag, int a, int b, double value) {
+  auto add = [&](std::ptrdiff_t distance, int a, int b, double value) {
+    if (distance % stride != 0) return;
+    const std::ptrdiff_t lag = distance / stride;
     if (lag >= 0 && lag < kBandRunMaxLength) coupling[lag][a * G + b] += value;
   };
   for (int a = 0; a < step.members; ++a) {
@@ -137,6 +143,17 @@ std::vector<Step<Dim>> block_steps(const Level<Dim, Scalar>& level,
   return steps;
 }
 
+// Sort key of a step off the x-runs: its lattice coordinates with y fastest, then x, then z.
+template <int Dim, typename Scalar>
+std::array<int, Dim> across_order(const Level<Dim, Scalar>& level, const Step<Dim>& step) {
+  const IVec<Dim> s = level.lattice.coords(step_target(level, step));
+  std::array<int, Dim> key{};
+  for (int a = 2; a < Dim; ++a) key[Dim - 1 - a] = s[a];
+  key[Dim - 2] = s[0];
+  key[Dim - 1] = s[1];
+  return key;
+}
+
 }  // namespace
 
 template <int Dim, typename Scalar>
@@ -152,37 +169,52 @@ void build_band_runs(Level<Dim, Scalar>& level) {
   BandRuns<Dim, Scalar> runs;
   std::unordered_map<std::string, std::uint32_t> ids;
   std::string key;
-  // Appends a block's items: runs of >= kBandRunMinLength equally shaped steps one cell apart
-  // along x, the other steps one by one.
-  auto add_items = [&](const std::vector<Step<Dim>>& steps, std::vector<std::uint32_t>& items) {
-    std::vector<std::uint32_t> shape_of(steps.size());
-    for (std::size_t i = 0; i < steps.size(); ++i) {
-      shape_key(level, steps[i], key);
-      const auto [it, added] = ids.try_emplace(key, static_cast<std::uint32_t>(ids.size()));
-      if (added) runs.shapes.push_back(make_shape(level, steps[i]));
-      shape_of[i] = it->second;
-    }
+  const std::ptrdiff_t across = level.lattice.stride(1);
+  auto shape_id = [&](const Step<Dim>& step, std::ptrdiff_t stride) {
+    shape_key(level, step, stride, key);
+    const auto [it, added] = ids.try_emplace(key, static_cast<std::uint32_t>(ids.size()));
+    if (added) runs.shapes.push_back(make_shape(level, step, stride));
+    return it->second;
+  };
+  // Greedy maximal runs: length[i] > 0 where a sequence of equally shaped steps `stride` apart
+  // starts (shorter than kBandRunMinLength: relaxed step by step), 0 inside one.
+  auto find_runs = [&](const std::vector<Step<Dim>>& steps, std::ptrdiff_t stride,
+                       std::vector<std::uint32_t>& shape_of) {
+    shape_of.resize(steps.size());
+    for (std::size_t i = 0; i < steps.size(); ++i) shape_of[i] = shape_id(steps[i], stride);
+    std::vector<std::size_t> length(steps.size(), 0);
     for (std::size_t i = 0; i < steps.size();) {
       const auto& shape = runs.shapes[shape_of[i]];
       std::size_t end = i + 1;
       while (end < steps.size() && shape_of[end] == shape_of[i] &&
              static_cast<int>(end - i) < shape.max_length &&
-             step_target(level, steps[end]) == step_target(level, steps[end - 1]) + 1)
+             step_target(level, steps[end]) == step_target(level, steps[end - 1]) + stride)
         ++end;
-      const auto length = static_cast<int>(end - i);
-      const bool run = length >= kBandRunMinLength;
-      runs.steps += length;
-      runs.row_relaxations += static_cast<std::size_t>(length) * shape.members;
+      length[i] = end - i;
+      i = end;
+    }
+    return length;
+  };
+  // Appends the items of `steps` (runs `stride` apart, other steps one by one) and the steps in
+  // item order.
+  auto emit = [&](const std::vector<Step<Dim>>& steps, std::ptrdiff_t stride,
+                  std::vector<std::uint32_t>& items, std::vector<Step<Dim>>& order) {
+    std::vector<std::uint32_t> shape_of;
+    const std::vector<std::size_t> length = find_runs(steps, stride, shape_of);
+    for (std::size_t i = 0; i < steps.size(); i += length[i]) {
+      const std::size_t end = i + length[i];
+      const auto& shape = runs.shapes[shape_of[i]];
+      const bool run = static_cast<int>(length[i]) >= kBandRunMinLength;
+      runs.steps += length[i];
+      runs.row_relaxations += length[i] * shape.members;
       if (run) {
-        runs.steps_in_runs += length;
-        runs.row_relaxations_in_runs += static_cast<std::size_t>(length) * shape.members;
-      }
-      if (run) {
+        runs.steps_in_runs += length[i];
+        runs.row_relaxations_in_runs += length[i] * shape.members;
         items.push_back(static_cast<std::uint32_t>(BandItem::RUN) |
                         static_cast<std::uint32_t>(runs.runs.size()));
-        runs.runs.push_back({shape_of[i], static_cast<std::uint32_t>(length),
+        runs.runs.push_back({shape_of[i], static_cast<std::uint32_t>(length[i]),
                              static_cast<std::uint32_t>(runs.rows.size()),
-                             step_target(level, steps[i])});
+                             step_target(level, steps[i]), stride});
         for (std::size_t s = i; s < end; ++s)
           runs.rows.insert(runs.rows.end(), steps[s].rows.begin(),
                            steps[s].rows.begin() + steps[s].members);
@@ -196,24 +228,58 @@ void build_band_runs(Level<Dim, Scalar>& level) {
           }
         }
       }
-      i = end;
+      order.insert(order.end(), steps.begin() + i, steps.begin() + end);
     }
+  };
+  // The steps of x-runs keep their order; the others (on faces across x, where the band is a
+  // few cells thick in x) follow, ordered with y fastest, and run along y.
+  auto add_items = [&](const std::vector<Step<Dim>>& steps, std::vector<std::uint32_t>& items,
+                       std::vector<Step<Dim>>& order) {
+    std::vector<std::uint32_t> shape_of;
+    const std::vector<std::size_t> length = find_runs(steps, 1, shape_of);
+    std::vector<Step<Dim>> along_x, rest;
+    for (std::size_t i = 0; i < steps.size(); i += length[i]) {
+      auto& to = static_cast<int>(length[i]) >= kBandRunMinLength ? along_x : rest;
+      to.insert(to.end(), steps.begin() + i, steps.begin() + i + length[i]);
+    }
+    std::stable_sort(rest.begin(), rest.end(), [&](const Step<Dim>& a, const Step<Dim>& b) {
+      return across_order(level, a) < across_order(level, b);
+    });
+    emit(along_x, 1, items, order);
+    emit(rest, across, items, order);
   };
   for (int c = 0; c < (1 << Dim); ++c) {
     runs.schedule[c].resize(level.band_schedule[c].size());
     for (std::size_t w = 0; w < level.band_schedule[c].size(); ++w) {
-      const auto& work = level.band_schedule[c][w];
-      add_items(block_steps(level, work.cell_blocks, work.point_rows), runs.schedule[c][w]);
+      auto& work = level.band_schedule[c][w];
+      std::vector<Step<Dim>> order;
+      auto& items = runs.schedule[c][w];
+      add_items(block_steps(level, work.cell_blocks, {}), items, order);
+      add_items(block_steps(level, {}, work.point_rows), items, order);
+      // The step-by-step sweep takes the same order.
+      work.cell_blocks.clear();
+      work.point_rows.clear();
+      for (const Step<Dim>& step : order) {
+        if (step.cell_block)
+          work.cell_blocks.push_back(step.index);
+        else
+          work.point_rows.insert(work.point_rows.end(), step.rows.begin(),
+                                 step.rows.begin() + step.members);
+      }
     }
   }
   runs.band_rows = level.band_kernel.rows();
   level.band_runs = std::move(runs);
 }
 
-template <int Dim, typename Scalar>
-void relax_band_run(const std::array<Scalar*, Dim + 1>& x, const BandKernel<Scalar>& kernel,
-                    const BandRunShape<Dim, Scalar>& shape, const BandRun& run,
-                    const std::uint32_t* rows) {
+namespace {
+
+// relax_band_run with the steps `stride` apart (Contiguous: 1, loads and stores vectorize).
+template <bool Contiguous, int Dim, typename Scalar>
+void relax_run(const std::array<Scalar*, Dim + 1>& x, const BandKernel<Scalar>& kernel,
+               const BandRunShape<Dim, Scalar>& shape, const BandRun& run,
+               const std::uint32_t* rows) {
+  const std::ptrdiff_t stride = Contiguous ? 1 : run.stride;
   constexpr int G = 2 * Dim;
   constexpr int K = kBandRunMaxLag;
   const int length = static_cast<int>(run.length);
@@ -234,7 +300,7 @@ void relax_band_run(const std::array<Scalar*, Dim + 1>& x, const BandKernel<Scal
       const Scalar value = kernel.entry_value[e];
       const Scalar* __restrict xe = x[kernel.entry_field[e]] + base + kernel.entry_offset[e];
 #pragma omp simd
-      for (int s = 0; s < length; ++s) sum[s] += value * xe[s];
+      for (int s = 0; s < length; ++s) sum[s] += value * xe[s * stride];
     }
     for (int s = 0; s < length; ++s) r[a][s] = kernel.rhs[run_rows[s * members + a]] - sum[s];
   }
@@ -264,15 +330,27 @@ void relax_band_run(const std::array<Scalar*, Dim + 1>& x, const BandKernel<Scal
     const Scalar* __restrict d = delta[a] + K;
     Scalar* __restrict xa = x[shape.field[a]] + base;
 #pragma omp simd
-    for (int s = 0; s < length; ++s) xa[s] += d[s];
+    for (int s = 0; s < length; ++s) xa[s * stride] += d[s];
     const std::uint32_t p = shape.pattern[a];
     for (int c = 0; c < kernel.pressure_count[p]; ++c) {
       const Scalar factor = kernel.pressure_factor[p][c];
       Scalar* __restrict pa = x[Dim] + base + kernel.pressure_offset[p][c];
 #pragma omp simd
-      for (int s = 0; s < length; ++s) pa[s] -= factor * d[s];
+      for (int s = 0; s < length; ++s) pa[s * stride] -= factor * d[s];
     }
   }
+}
+
+}  // namespace
+
+template <int Dim, typename Scalar>
+void relax_band_run(const std::array<Scalar*, Dim + 1>& x, const BandKernel<Scalar>& kernel,
+                    const BandRunShape<Dim, Scalar>& shape, const BandRun& run,
+                    const std::uint32_t* rows) {
+  if (run.stride == 1)
+    relax_run<true>(x, kernel, shape, run, rows);
+  else
+    relax_run<false>(x, kernel, shape, run, rows);
 }
 
 #define MGELASTIC_INSTANTIATE(D, S)                                                      \

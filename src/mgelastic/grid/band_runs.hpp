@@ -18,8 +18,14 @@
 // step-by-step sweep up to round-off. Shapes whose couplings reach further than kMaxLag steps cap
 // their runs below that reach, so every coupling inside a run is one of C_1..C_J.
 //
+// Runs along y: where the band is only a few cells thick in x (faces across x) the steps of a
+// block off the x-runs are ordered with y fastest and form runs one lattice row apart (stride
+// n_x; pass 1 then gathers); build_band_runs writes that order back into Level::band_schedule,
+// so the step-by-step sweep keeps the run-wise one's order.
+//
 // Layout: steps of one run have members a = 0..members-1; the band_u row of member a at step s is
-// rows[first_row + s * members + a]; its target is target + offset[a] + s in field field[a].
+// rows[first_row + s * members + a]; its target is target + offset[a] + s * stride in field
+// field[a].
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -53,6 +59,7 @@ struct BandRunShape {
 struct BandRun {
   std::uint32_t shape = 0, length = 0, first_row = 0;
   std::ptrdiff_t target = 0;  // flat index of member 0's variable at step 0
+  std::ptrdiff_t stride = 1;  // flat distance between consecutive steps (1: along x)
 };
 
 // Work items of one block in sweep order: a run, one cell block (Level::band_blocks index) or
@@ -78,7 +85,7 @@ struct BandRuns {
 };
 
 // Detects the runs of Level::band_schedule (needs band_blocks, band_block_inverse, band_kernel
-// and band_schedule).
+// and band_schedule) and puts each block's steps of band_schedule in run order (above).
 template <int Dim, typename Scalar>
 void build_band_runs(Level<Dim, Scalar>& level);
 

@@ -131,6 +131,19 @@ void add_correction(const Level<Dim, Scalar>& fine, Level<Dim, double>& solution
   }
 }
 
+// The extra band sweeps of Fig. 8 over `rows`. Where they are the whole band (on the box every
+// band row reads a coarse boundary correction) the sweeps are the smoothing's block and run-wise
+// band sweeps, 2-3x cheaper per row than the point sweeps of a subset.
+template <int Dim, typename Scalar>
+void relocation_sweeps(Level<Dim, Scalar>& level, int sweeps,
+                       const std::vector<std::uint32_t>& rows,
+                       const typename Level<Dim, Scalar>::RowSchedule& schedule) {
+  if (rows.size() == level.band_kernel.rows())
+    band_gauss_seidel(level, sweeps);
+  else
+    band_gauss_seidel(level, sweeps, schedule);
+}
+
 }  // namespace
 
 int default_boundary_sweeps(double poisson_ratio) {
@@ -364,7 +377,8 @@ void Multigrid<Dim, Scalar>::correct(int l) {
   }
   smooth(l, true);
   timer.restart();
-  band_gauss_seidel(m_levels[l], m_options.relocation_sweeps, m_levels[l].pre_restriction_schedule);
+  relocation_sweeps(m_levels[l], m_options.relocation_sweeps, m_levels[l].pre_restriction_rows,
+                    m_levels[l].pre_restriction_schedule);
   m_phases.boundary_smoothing += timer.seconds();
   observe(l, CyclePhase::RELOCATION_BEFORE_RESTRICTION);
   timer.restart();
@@ -381,7 +395,7 @@ void Multigrid<Dim, Scalar>::correct(int l) {
   m_phases.prolongation += timer.seconds();
   observe(l, CyclePhase::PROLONGATION);
   timer.restart();
-  band_gauss_seidel(m_levels[l], m_options.relocation_sweeps,
+  relocation_sweeps(m_levels[l], m_options.relocation_sweeps, m_levels[l].post_prolongation_rows,
                     m_levels[l].post_prolongation_schedule);
   m_phases.boundary_smoothing += timer.seconds();
   observe(l, CyclePhase::RELOCATION_AFTER_PROLONGATION);
