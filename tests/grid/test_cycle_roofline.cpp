@@ -33,9 +33,9 @@ TEST(CycleRoofline, VolumeTermsEqualTheirHandCount) {
   const auto& coarse = mg.level(1);
   ASSERT_EQ(fine.size(), 1000u);
   ASSERT_EQ(coarse.size(), 216u);
-  // Momentum field: read x (4 fields), b_i; write u_i, p; relaxation byte: 7 * 4 + 1 = 29.
-  // Pressure: read x, b; write x (4); relaxation and cell bytes: 9 * 4 + 2 = 38.
-  EXPECT_DOUBLE_EQ(distributive_sweep_bytes(fine), 512.0 * (3 * 29 + 38));
+  // Block-wise sweep: x and b read, x written (3 x 4 fields x 4 bytes), four relaxation bytes
+  // and the cell type: 48 + 5 = 53 per real cell.
+  EXPECT_DOUBLE_EQ(distributive_sweep_bytes(fine), 512.0 * 53);
   // Fine r read (4 fields) + coarse x, b written and coarse kind read.
   EXPECT_DOUBLE_EQ(restriction_bytes(fine, coarse), 1000.0 * 4 * 4 + 216.0 * 4 * (2 * 4 + 1));
   // Coarse x and kind read, fine kind read and x read + written.

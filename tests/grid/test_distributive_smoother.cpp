@@ -69,10 +69,15 @@ TEST(DistributiveSweep, PressureStepZeroesPressureResidualOfTheLastCell) {
   auto level = random_level(0.45, 9);
   distributive_sweep(level);
   compute_residual(level);
-  // The last distributive pressure visited is relaxed after everything else in the sweep.
-  std::size_t last = 0;
-  for (std::size_t k = 0; k < level.size(); ++k)
-    if (level.relaxation[3][k] == Relaxation::DISTRIBUTIVE) last = k;
+  // The last distributive pressure visited (last block of the last color, p after the momentum
+  // passes) is relaxed after everything else in the sweep.
+  std::ptrdiff_t last = -1;
+  for (const auto& color : level.blocks.colors)
+    for (const auto& block : color)
+      for_each_in_block(level.lattice, block, [&](std::ptrdiff_t k) {
+        if (level.relaxation[3][k] == Relaxation::DISTRIBUTIVE) last = k;
+      });
+  ASSERT_GE(last, 0);
   EXPECT_NEAR(level.r[3][last], 0.0, 1e-9 * std::abs(level.b[3][last]) + 1e-12);
 }
 
@@ -91,25 +96,16 @@ void reference_sweep(Level<3, double>& level) {
   const double mu = level.mu, lambda = level.lambda, c = level.inertia;
   const double inv_h = 1.0 / level.lattice.h, inv_h2 = inv_h * inv_h;
   const StencilConstants<3, double> sc{mu, inv_h, inv_h2};
-  auto visit_all = [&](auto&& f) {
-    for (const auto& color : level.blocks.colors)
-      for (const auto& block : color) for_each_in_block(level.lattice, block, f);
+  auto momentum = [&]<int Axis>(std::ptrdiff_t k) {
+    if (level.relaxation[Axis][k] != Relaxation::DISTRIBUTIVE) return;
+    const double r =
+        level.b[Axis][k] - momentum_row<3, double, Axis>(uc, p, s, k, sc) + c * u[Axis][k];
+    const double delta = -r / (6 * mu * inv_h2 + c);
+    u[Axis][k] += delta;
+    p[k] -= delta * inv_h;
+    p[k - s[Axis]] += delta * inv_h;
   };
-  auto momentum = [&]<int Axis>() {
-    visit_all([&](std::ptrdiff_t k) {
-      if (level.relaxation[Axis][k] != Relaxation::DISTRIBUTIVE) return;
-      const double r =
-          level.b[Axis][k] - momentum_row<3, double, Axis>(uc, p, s, k, sc) + c * u[Axis][k];
-      const double delta = -r / (6 * mu * inv_h2 + c);
-      u[Axis][k] += delta;
-      p[k] -= delta * inv_h;
-      p[k - s[Axis]] += delta * inv_h;
-    });
-  };
-  momentum.template operator()<0>();
-  momentum.template operator()<1>();
-  momentum.template operator()<2>();
-  visit_all([&](std::ptrdiff_t k) {
+  auto pressure = [&](std::ptrdiff_t k) {
     if (level.relaxation[3][k] != Relaxation::DISTRIBUTIVE) return;
     const double r =
         lambda * (level.b[3][k] - mu * divergence<3, double>(uc, s, k, inv_h)) - mu * mu * p[k];
@@ -128,7 +124,19 @@ void reference_sweep(Level<3, double>& level) {
       }
     }
     p[k] += (12 * inv_h2 + c / mu) * delta;
-  });
+  };
+  // Block by block (colors in turn), in each block u_1, u_2, u_3, then p.
+  for (const auto& color : level.blocks.colors) {
+    for (const auto& block : color) {
+      for_each_in_block(level.lattice, block,
+                        [&](std::ptrdiff_t k) { momentum.template operator()<0>(k); });
+      for_each_in_block(level.lattice, block,
+                        [&](std::ptrdiff_t k) { momentum.template operator()<1>(k); });
+      for_each_in_block(level.lattice, block,
+                        [&](std::ptrdiff_t k) { momentum.template operator()<2>(k); });
+      for_each_in_block(level.lattice, block, pressure);
+    }
+  }
 }
 
 // The kernel relaxes an x-row segment in passes (all residuals, the scalar delta recurrence,

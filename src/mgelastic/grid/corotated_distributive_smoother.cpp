@@ -111,25 +111,24 @@ void CorotatedDistributiveSmoother<Dim>::sweep(Level<Dim, double>& level,
   std::array<double*, Dim + 1> x;
   for (int f = 0; f <= Dim; ++f) x[f] = level.x[f].data();
   const auto at = [&](std::uint32_t v) -> double& { return x[v / n][v % n]; };
-  for (int field = 0; field <= Dim; ++field) {
-    if (field == Dim && level.lambda <= 0) break;
-    const double* b = level.b[field].data();
-    const auto relax = [&](std::ptrdiff_t k) {
-      const std::int32_t m = rows.row_of[level.global(field, k)];
-      if (m < 0 || m_inverse_diagonal[m] == 0) return;
-      double value = rows.constant[m];
-      for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e)
-        value += rows.value[e] * at(rows.column[e]);
-      const double delta = (b[k] - value) * m_inverse_diagonal[m];
-      for (std::uint32_t e = m_start[m]; e < m_start[m + 1]; ++e)
-        at(m_variable[e]) += m_weight[e] * delta;
-    };
-    for (const auto& color : level.blocks.colors) {
-      const auto count = static_cast<std::ptrdiff_t>(color.size());
+  const auto relax = [&](int field, std::ptrdiff_t k) {
+    const std::int32_t m = rows.row_of[level.global(field, k)];
+    if (m < 0 || m_inverse_diagonal[m] == 0) return;
+    double value = rows.constant[m];
+    for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e)
+      value += rows.value[e] * at(rows.column[e]);
+    const double delta = (level.b[field][k] - value) * m_inverse_diagonal[m];
+    for (std::uint32_t e = m_start[m]; e < m_start[m + 1]; ++e)
+      at(m_variable[e]) += m_weight[e] * delta;
+  };
+  // The linear sweep's order (distributive_smoother.hpp): block by block, u_1 .. u_d, then p.
+  const int fields = level.lambda > 0 ? Dim + 1 : Dim;
+  for (const auto& color : level.blocks.colors) {
+    const auto count = static_cast<std::ptrdiff_t>(color.size());
 #pragma omp parallel for schedule(dynamic, 1)
-      for (std::ptrdiff_t block = 0; block < count; ++block)
-        for_each_in_block(level.lattice, color[block], relax);
-    }
+    for (std::ptrdiff_t block = 0; block < count; ++block)
+      for (int field = 0; field < fields; ++field)
+        for_each_in_block(level.lattice, color[block], [&](std::ptrdiff_t k) { relax(field, k); });
   }
 }
 

@@ -27,18 +27,6 @@ struct Views {
   }
 };
 
-// Visits every x-row segment of every block, color by color (the blocks of one color run in
-// parallel): visit(k, n) gets the flat index of the segment's first point and its length.
-template <int Dim, typename Scalar, typename F>
-void for_each_colored_row(const Level<Dim, Scalar>& level, F&& visit) {
-  for (const auto& color : level.blocks.colors) {
-    const auto count = static_cast<std::ptrdiff_t>(color.size());
-#pragma omp parallel for schedule(dynamic, 1)
-    for (std::ptrdiff_t b = 0; b < count; ++b)
-      for_each_row_in_block(level.lattice, color[b], visit);
-  }
-}
-
 // Lexicographic Gauss-Seidel along an x-row is a recurrence only through the row's previous
 // step: a step moves exactly one value the next point's residual reads, by a fixed multiple of
 // its delta. So each segment is relaxed in three passes: the residuals of all points from the
@@ -58,26 +46,36 @@ inline bool any_relaxed(const Relaxation* relax, int n) {
   return any;
 }
 
+// The psi_Axis steps of one x-row segment (operator()), with the level's constants.
 template <int Dim, typename Scalar, int Axis>
-void sweep_momentum(Level<Dim, Scalar>& level, Views<Dim, Scalar>& v) {
-  const Relaxation* relax = level.relaxation[Axis].data();
-  const Scalar* b = level.b[Axis].data();
-  // At lambda = 0 the pressure vanishes identically (it is eliminated exactly) and the step is
-  // plain Gauss-Seidel on the momentum row, whose diagonal is -(2d + 2) mu / h^2 - c.
-  const bool pressure_free = level.lambda <= 0;
-  const Scalar c = level.inertia;
-  const Scalar inv_diagonal =
-      Scalar(-1) / (Scalar(pressure_free ? 2 * Dim + 2 : 2 * Dim) * v.c.mu * v.c.inv_h2 + c);
-  const Scalar p_step = pressure_free ? Scalar(0) : v.c.inv_h;
-  // The previous face's step changes this face's row by coupling * delta: through u_i[k - 1]
-  // (weight 2 mu / h^2 along x for u_x, mu / h^2 otherwise) and, for u_x, p[k - 1].
-  const Scalar coupling = Axis == 0 ? Scalar(2) * v.c.mu * v.c.inv_h2 - v.c.mu * v.c.inv_h * p_step
-                                    : v.c.mu * v.c.inv_h2;
-  const Scalar g_relaxed = -coupling * inv_diagonal;
-  const std::ptrdiff_t si = v.s[Axis];
-  Scalar* __restrict ui = v.u[Axis];
-  Scalar* __restrict p = v.p;
-  for_each_colored_row(level, [&](std::ptrdiff_t row, int length) {
+struct MomentumRows {
+  const Views<Dim, Scalar>& v;
+  const Relaxation* relax;
+  const Scalar* b;
+  Scalar c, inv_diagonal, p_step, g_relaxed;
+  std::ptrdiff_t si;
+
+  MomentumRows(const Level<Dim, Scalar>& level, const Views<Dim, Scalar>& views)
+      : v(views), relax(level.relaxation[Axis].data()), b(level.b[Axis].data()) {
+    // At lambda = 0 the pressure vanishes identically (it is eliminated exactly) and the step is
+    // plain Gauss-Seidel on the momentum row, whose diagonal is -(2d + 2) mu / h^2 - c.
+    const bool pressure_free = level.lambda <= 0;
+    c = level.inertia;
+    inv_diagonal =
+        Scalar(-1) / (Scalar(pressure_free ? 2 * Dim + 2 : 2 * Dim) * v.c.mu * v.c.inv_h2 + c);
+    p_step = pressure_free ? Scalar(0) : v.c.inv_h;
+    // The previous face's step changes this face's row by coupling * delta: through u_i[k - 1]
+    // (weight 2 mu / h^2 along x for u_x, mu / h^2 otherwise) and, for u_x, p[k - 1].
+    const Scalar coupling = Axis == 0
+                                ? Scalar(2) * v.c.mu * v.c.inv_h2 - v.c.mu * v.c.inv_h * p_step
+                                : v.c.mu * v.c.inv_h2;
+    g_relaxed = -coupling * inv_diagonal;
+    si = v.s[Axis];
+  }
+
+  void operator()(std::ptrdiff_t row, int length) const {
+    Scalar* __restrict ui = v.u[Axis];
+    Scalar* __restrict p = v.p;
     for (int first = 0; first < length; first += kRowChunk) {
       const std::ptrdiff_t k0 = row + first;
       const int n = std::min(kRowChunk, length - first);
@@ -121,8 +119,8 @@ void sweep_momentum(Level<Dim, Scalar>& level, Views<Dim, Scalar>& v) {
         }
       }
     }
-  });
-}
+  }
+};
 
 // q step next to Dirichlet cells: the distribution moves only interior faces and interior
 // pressures, so (LM)_pp = (mu n_faces + 4 d D) / h^2 + D c / mu with n_faces the faces it moves
@@ -142,7 +140,7 @@ Scalar restricted_pressure_delta(const Level<Dim, Scalar>& level, const Views<Di
 }
 
 template <int Dim, typename Scalar>
-void restricted_pressure_move(const Level<Dim, Scalar>& level, Views<Dim, Scalar>& v,
+void restricted_pressure_move(const Level<Dim, Scalar>& level, const Views<Dim, Scalar>& v,
                               std::ptrdiff_t k, Scalar delta) {
   const auto& cells = level.cells;
   const Scalar du = delta * v.c.inv_h;
@@ -174,8 +172,8 @@ bool all_neighbors_interior(const Level<Dim, Scalar>& level, const Views<Dim, Sc
 // step moves u_x[k] by delta/h and p[k] by -2 delta/h^2, which raises this cell's residual
 // (times lambda) by (lambda mu + 2 mu^2) delta / h^2, whether its step is restricted or not.
 template <int Dim, typename Scalar>
-void relax_pressure_chunk(const Level<Dim, Scalar>& level, Views<Dim, Scalar>& v, std::ptrdiff_t k0,
-                          int n) {
+void relax_pressure_chunk(const Level<Dim, Scalar>& level, const Views<Dim, Scalar>& v,
+                          std::ptrdiff_t k0, int n) {
   const Relaxation* relax = level.relaxation[Dim].data();
   if (!any_relaxed(relax + k0, n)) return;
   const Scalar* b = level.b[Dim].data();
@@ -255,23 +253,31 @@ void relax_pressure_chunk(const Level<Dim, Scalar>& level, Views<Dim, Scalar>& v
     if (restricted[x] != Scalar(0)) restricted_pressure_move(level, v, k0 + x, restricted[x]);
 }
 
-template <int Dim, typename Scalar>
-void sweep_pressure(Level<Dim, Scalar>& level, Views<Dim, Scalar>& v) {
-  for_each_colored_row(level, [&](std::ptrdiff_t row, int length) {
-    for (int first = 0; first < length; first += kRowChunk)
-      relax_pressure_chunk(level, v, row + first, std::min(kRowChunk, length - first));
-  });
-}
-
 }  // namespace
 
 template <int Dim, typename Scalar>
 void distributive_sweep(Level<Dim, Scalar>& level) {
-  Views<Dim, Scalar> v(level);
-  sweep_momentum<Dim, Scalar, 0>(level, v);
-  sweep_momentum<Dim, Scalar, 1>(level, v);
-  if constexpr (Dim == 3) sweep_momentum<Dim, Scalar, 2>(level, v);
-  if (level.lambda > 0) sweep_pressure(level, v);
+  const Views<Dim, Scalar> v(level);
+  const MomentumRows<Dim, Scalar, 0> psi_x(level, v);
+  const MomentumRows<Dim, Scalar, 1> psi_y(level, v);
+  const MomentumRows<Dim, Scalar, Dim - 1> psi_z(level, v);
+  const bool pressure = level.lambda > 0;
+  auto q = [&](std::ptrdiff_t row, int length) {
+    for (int first = 0; first < length; first += kRowChunk)
+      relax_pressure_chunk(level, v, row + first, std::min(kRowChunk, length - first));
+  };
+  // Block by block: the block's four passes run while its fields are in cache.
+  for (const auto& color : level.blocks.colors) {
+    const auto count = static_cast<std::ptrdiff_t>(color.size());
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::ptrdiff_t b = 0; b < count; ++b) {
+      const Block<Dim>& block = color[b];
+      for_each_row_in_block(level.lattice, block, psi_x);
+      for_each_row_in_block(level.lattice, block, psi_y);
+      if constexpr (Dim == 3) for_each_row_in_block(level.lattice, block, psi_z);
+      if (pressure) for_each_row_in_block(level.lattice, block, q);
+    }
+  }
 }
 
 template void distributive_sweep<2, float>(Level<2, float>&);
