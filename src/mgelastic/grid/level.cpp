@@ -115,8 +115,15 @@ struct RelocationTest {
            coarse_cells[k - coarse.stride(axis)] == CellType::INTERIOR;
   }
 
+  // One or two coarse stored coordinates along an axis (fixed storage: classify runs for every
+  // face of the lattice, and per-call vectors made it a third of the level build).
+  struct Coordinates {
+    std::array<int, 2> value{};
+    int count = 0;
+  };
+
   // along[a] lists the coarse stored coordinates touched along axis a.
-  bool all_coarse_interior(int axis, const std::array<std::vector<int>, Dim>& along) const {
+  bool all_coarse_interior(int axis, const std::array<Coordinates, Dim>& along) const {
     IVec<Dim> s;
     bool ok = true;
     auto recurse = [&](auto&& self, int a) -> void {
@@ -125,8 +132,8 @@ struct RelocationTest {
         ok = coarse_face_interior(axis, s);
         return;
       }
-      for (int c : along[a]) {
-        s[a] = c;
+      for (int i = 0; i < along[a].count; ++i) {
+        s[a] = along[a].value[i];
         self(self, a + 1);
       }
     };
@@ -143,17 +150,17 @@ struct RelocationTest {
   // Returns {restricts onto a coarse non-equation, prolongates from a coarse boundary variable}.
   std::pair<bool, bool> classify(int axis, std::ptrdiff_t k) const {
     const IVec<Dim> s = fine.coords(k);
-    std::array<std::vector<int>, Dim> restrict_to, prolong_from;
+    std::array<Coordinates, Dim> restrict_to, prolong_from;
     for (int a = 0; a < Dim; ++a) {
       const int c = s[a] - 1;  // unpadded face (a == axis) or cell coordinate
       if (a == axis) {
-        restrict_to[a] = (c % 2 == 0) ? std::vector<int>{c / 2 + 1}
-                                      : std::vector<int>{(c - 1) / 2 + 1, (c + 1) / 2 + 1};
+        restrict_to[a] = (c % 2 == 0) ? Coordinates{{c / 2 + 1, 0}, 1}
+                                      : Coordinates{{(c - 1) / 2 + 1, (c + 1) / 2 + 1}, 2};
         prolong_from[a] = restrict_to[a];
       } else {
         const int m = c / 2;
-        restrict_to[a] = {m + 1};
-        prolong_from[a] = {m + 1, (c % 2 == 0 ? m - 1 : m + 1) + 1};
+        restrict_to[a] = {{m + 1, 0}, 1};
+        prolong_from[a] = {{m + 1, (c % 2 == 0 ? m - 1 : m + 1) + 1}, 2};
       }
     }
     return {!all_coarse_interior(axis, restrict_to), !all_coarse_interior(axis, prolong_from)};
