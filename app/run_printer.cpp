@@ -112,6 +112,7 @@ bool RunPrinter::frame_done(const sim::Simulation& simulation, const sim::FrameS
   const scene::Scene& s = simulation.scene();
   ++m_frames;
   m_unconverged += stats.converged ? 0 : 1;
+  for (const sim::StepStats& step : stats.step_stats) m_stalled += step.stalled ? 1 : 0;
   m_total.steps += stats.steps;
   m_total.cycles += stats.cycles;
   m_total.worst_residual = std::max(m_total.worst_residual, stats.worst_residual);
@@ -154,7 +155,9 @@ bool RunPrinter::frame_done(const sim::Simulation& simulation, const sim::FrameS
     else
       std::snprintf(status, sizeof status, "t = %.3f s  %d cycles  relative residual %.2e%s",
                     stats.time, stats.cycles, last.relative_residual,
-                    stats.converged ? "" : " (NOT converged)");
+                    stats.converged ? ""
+                    : last.stalled  ? " (NOT converged: stalled at float round-off)"
+                                    : " (NOT converged)");
     m_progress.update(stats.frame + 1, status);
   }
   if (!go_on) {
@@ -247,10 +250,11 @@ void RunPrinter::print_summary(const sim::Simulation& simulation,
           corotated ? "non-linear " : "",
           m_rate_steps > 0 ? std::exp(m_log_rate_sum / m_rate_steps) : 0.0, m_total.worst_residual);
     } else {
-      std::printf("%d %s%scycles%s, worst relative %sresidual %.2e", m_total.cycles,
-                  corotated ? "" : s.cycle.c_str(), corotated ? "" : "-",
-                  s.accelerate && !corotated ? " (FGMRES-accelerated)" : "",
-                  corotated ? "non-linear " : "", m_total.worst_residual);
+      std::printf(
+          "%d %s%scycles%s, worst relative %sresidual %.2e", m_total.cycles,
+          corotated ? "" : s.cycle.c_str(), corotated ? "" : "-",
+          s.accelerate && !corotated && s.precision != "single" ? " (FGMRES-accelerated)" : "",
+          corotated ? "non-linear " : "", m_total.worst_residual);
     }
     if (corotated) std::printf(", last quasi-linear residual %.2e", m_last_quasi_linear);
     std::printf("\ntime: setup %.2f s, hierarchy %.2f s, solve %.2f s = %.3f s/frame",
@@ -263,8 +267,12 @@ void RunPrinter::print_summary(const sim::Simulation& simulation,
                   ph.restriction + ph.prolongation, ph.coarse_solve);
     std::printf(", output %.2f s\n", output_seconds());
     if (s.time.quasistatic && m_total.worst_residual > s.tolerance)
-      std::printf("warning: some frames did not reach the tolerance %.1e within %d cycles\n",
-                  s.tolerance, s.max_vcycles);
+      std::printf("warning: some frames did not reach the tolerance %.1e within %d cycles%s\n",
+                  s.tolerance, s.max_vcycles,
+                  s.precision == "single" && m_stalled > 0
+                      ? " (single precision: the residual stalled at float round-off; "
+                        "\"float\" reaches it with the same float cycles)"
+                      : "");
   }
   print_probes(simulation.scene(), probes());
   std::printf("wrote %s\n", dir.string().c_str());

@@ -46,6 +46,7 @@ class StepStats:
     quasi_linear_reduction: float
     quasi_linear_residual: float
     converged: bool
+    stalled: bool
     seconds: float
 
 class FrameStats:

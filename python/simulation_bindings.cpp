@@ -300,6 +300,9 @@ void bind_simulation(py::module_& m) {
       .def_readonly("quasi_linear_reduction", &sim::StepStats::quasi_linear_reduction)
       .def_readonly("quasi_linear_residual", &sim::StepStats::quasi_linear_residual)
       .def_readonly("converged", &sim::StepStats::converged)
+      .def_readonly("stalled", &sim::StepStats::stalled,
+                    "grid single precision: stopped short of the tolerance where float round-off "
+                    "stalled the residual")
       .def_readonly("seconds", &sim::StepStats::seconds);
   py::class_<sim::FrameStats>(m, "FrameStats", "Solver statistics of one frame.")
       .def_readonly("frame", &sim::FrameStats::frame, "index (-1 before the first frame)")

@@ -134,6 +134,36 @@ TEST(MultigridSolve, DirichletBoxConvergesAtModeratePoissonRatio) {
   EXPECT_LE(convergence_rate(mg.run_cycles(12).residuals), 0.45);
 }
 
+// solve()'s stall_cycles stops only a residual that no longer sets new minima: a converging
+// double solve runs exactly as without it.
+TEST(MultigridSolve, StallStopLeavesAConvergingSolveAlone) {
+  BoxSpec spec;
+  spec.cells = 32;
+  spec.poisson_ratio = 0.45;
+  Multigrid<2, double> plain(make_box_problem<2>(spec)), watched(make_box_problem<2>(spec));
+  const SolveReport a = plain.solve(1e-10, 60);
+  const SolveReport b = watched.solve(1e-10, 60, 3);
+  EXPECT_TRUE(b.converged);
+  EXPECT_FALSE(b.stalled);
+  EXPECT_EQ(a.residuals, b.residuals);
+}
+
+// Single precision (no double solution level) cannot reach 1e-14: the solve stops once three
+// cycles bring no new smallest residual, well before the cycle limit, and says why.
+TEST(MultigridSolve, SinglePrecisionStopsWhereRoundOffStallsTheResidual) {
+  BoxSpec spec;
+  spec.cells = 32;
+  spec.poisson_ratio = 0.45;
+  MultigridOptions options;
+  options.mixed_precision = false;
+  Multigrid<2, float> mg(make_box_problem<2>(spec), options);
+  const SolveReport r = mg.solve(1e-14, 100, 3);
+  EXPECT_FALSE(r.converged);
+  EXPECT_TRUE(r.stalled);
+  EXPECT_LT(r.cycles(), 100);
+  EXPECT_LT(r.residuals.back(), 1e-3 * r.residuals.front());  // it converged first
+}
+
 TEST(ConvergenceRate, GeometricMeanOfLastFiveRatiosAboveFloor) {
   const std::vector<double> residuals{1.0, 0.5, 0.1, 0.01, 1e-3, 1e-4, 1e-5, 1e-6, 1e-12, 1e-13};
   // Cycles 8 and 9 are below 1e-11 of the initial residual and do not count.

@@ -95,6 +95,52 @@ TEST(Scene, FormatPageMatchesTheSchema) {
   EXPECT_EQ(page.str(), scene_format_markdown());
 }
 
+// solver.precision "single" has no double solution level: what needs one is refused at load,
+// naming the field and the reason.
+nlohmann::json single_precision(const nlohmann::json& solver = nlohmann::json::object()) {
+  auto d = minimal();
+  d["solver"] = solver;
+  d["solver"]["precision"] = "single";
+  return d;
+}
+
+TEST(Scene, SinglePrecisionLinearQuasistaticIsAccepted) {
+  const Scene s = parse_scene(single_precision(), "scene.json", ".");
+  EXPECT_EQ(s.precision, "single");
+  EXPECT_TRUE(s.accelerate);  // the default; single precision iterates cycles alone
+}
+
+TEST(Scene, SinglePrecisionRefusesTheCorotatedModel) {
+  auto d = single_precision();
+  d["material"] = {{"model", "corotated"}};
+  const std::string error = error_of(d);
+  EXPECT_EQ(error.rfind("scene.json: /solver/precision: ", 0), 0u) << error;
+  EXPECT_NE(error.find("linear model only"), std::string::npos) << error;
+}
+
+TEST(Scene, SinglePrecisionRefusesDynamics) {
+  auto d = single_precision();
+  d["time"] = {{"quasistatic", false}};
+  const std::string error = error_of(d);
+  EXPECT_EQ(error.rfind("scene.json: /solver/precision: ", 0), 0u) << error;
+  EXPECT_NE(error.find("quasistatic scenes only"), std::string::npos) << error;
+}
+
+TEST(Scene, SinglePrecisionRefusesAnExplicitAcceleration) {
+  const std::string error = error_of(single_precision({{"accelerate", true}}));
+  EXPECT_EQ(error.rfind("scene.json: /solver/precision: ", 0), 0u) << error;
+  EXPECT_NE(error.find("accelerate"), std::string::npos) << error;
+  EXPECT_EQ(error_of(single_precision({{"accelerate", false}})), "");
+}
+
+// The tet engine has no multigrid precision to restrict.
+TEST(Scene, SinglePrecisionChecksOnlyTheGridEngine) {
+  auto d = single_precision();
+  d["engine"] = "tet";
+  d["time"] = {{"quasistatic", false}};
+  EXPECT_EQ(error_of(d), "");
+}
+
 }  // namespace
 }  // namespace mgelastic::scene
 

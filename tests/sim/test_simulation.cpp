@@ -146,6 +146,12 @@ TEST(Simulation, ResumeContinuesBitIdenticallyGridCorotated) {
   document["solver"]["tolerance"] = 1e-4;  // a few cycles per frame keep the test short
   expect_bit_identical_continuation(document);
 }
+// Single precision: the checkpoint's double copy of the float unknowns rounds back exactly.
+TEST(Simulation, ResumeContinuesBitIdenticallyGridSinglePrecision) {
+  nlohmann::json document = bar("grid", true, "linear");
+  document["solver"]["precision"] = "single";
+  expect_bit_identical_continuation(document);
+}
 TEST(Simulation, ResumeContinuesBitIdenticallyTetDynamic) {
   expect_bit_identical_continuation(bar("tet", false, "linear"));
 }

@@ -23,6 +23,7 @@ struct Case {
   std::string name, engine, model = "linear";
   bool quasistatic = true, accelerate = true;
   bool change_load = false;  // a traction on the top face, changed before the cancelled step
+  std::string precision = "double";
 };
 void PrintTo(const Case& c, std::ostream* out) {
   *out << c.name;
@@ -51,6 +52,7 @@ scene::Scene bar(const Case& c) {
   s["engine"] = c.engine;
   s["time"]["quasistatic"] = c.quasistatic;
   s["solver"]["accelerate"] = c.accelerate;
+  s["solver"]["precision"] = c.precision;
   if (c.engine == "grid") {
     s["grid"] = {{"resolution", 10}};
     s["material"]["model"] = c.model;
@@ -131,6 +133,16 @@ INSTANTIATE_TEST_SUITE_P(
     Simulation, CancelledStep,
     testing::Values(Case{.name = "grid_static_cycles", .engine = "grid", .accelerate = false},
                     Case{.name = "grid_static_fgmres", .engine = "grid"},
+                    // Single precision keeps b on the float finest level (no double level).
+                    Case{.name = "grid_static_single",
+                         .engine = "grid",
+                         .accelerate = false,
+                         .precision = "single"},
+                    Case{.name = "grid_static_single_load_change",
+                         .engine = "grid",
+                         .accelerate = false,
+                         .change_load = true,
+                         .precision = "single"},
                     Case{.name = "grid_dynamic", .engine = "grid", .quasistatic = false},
                     Case{.name = "grid_corotated_static", .engine = "grid", .model = "corotated"},
                     Case{.name = "grid_corotated_dynamic",

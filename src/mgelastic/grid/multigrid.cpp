@@ -403,7 +403,8 @@ void Multigrid<Dim, Scalar>::correct(int l) {
 }
 
 template <int Dim, typename Scalar>
-SolveReport Multigrid<Dim, Scalar>::solve(double relative_tolerance, int max_cycles) {
+SolveReport Multigrid<Dim, Scalar>::solve(double relative_tolerance, int max_cycles,
+                                          int stall_cycles) {
   SolveReport report;
   Timer timer;
   report.residuals.push_back(residual());
@@ -413,12 +414,20 @@ SolveReport Multigrid<Dim, Scalar>::solve(double relative_tolerance, int max_cyc
   const StartState start = capture_start();  // for the replay of a diverging solve
   m_phases.solve_setup += timer.seconds();
   const double target = relative_tolerance * report.residuals.front();
+  double smallest = report.residuals.front();
+  int without_progress = 0;
   while (report.cycles() < max_cycles && report.residuals.back() > target) {
     throw_if_cancelled();
     report.residuals.push_back(vcycle());
     const std::string reason = divergence_reason(report.residuals);
     if (!reason.empty())
       fail_diverged("V-cycle " + std::to_string(report.cycles()), reason, report.residuals, start);
+    without_progress = report.residuals.back() < smallest ? 0 : without_progress + 1;
+    smallest = std::min(smallest, report.residuals.back());
+    if (stall_cycles > 0 && without_progress >= stall_cycles && report.residuals.back() > target) {
+      report.stalled = true;
+      break;
+    }
   }
   report.converged = report.residuals.back() <= target;
   report.seconds = timer.seconds();

@@ -94,6 +94,9 @@ struct SolveReport {
   std::vector<double> residuals;  // before the first cycle, then after each cycle
   double seconds = 0;
   bool converged = false;
+  // Stopped before the tolerance because the residual stopped falling (Multigrid::solve's
+  // stall_cycles): round-off of the arithmetic reached, not a cycle limit.
+  bool stalled = false;
   int cycles() const { return static_cast<int>(residuals.size()) - 1; }
 };
 
@@ -119,7 +122,10 @@ class Multigrid {
   // Cycles until residual <= tolerance * initial residual or max_cycles. On divergence (a
   // non-finite residual, or growth beyond kResidualGrowthLimit, solver_health.hpp) throws Error
   // with the residual history and the level and phase found by a checked replay.
-  SolveReport solve(double relative_tolerance, int max_cycles);
+  // stall_cycles > 0: also stops (converged false, stalled true) after that many consecutive
+  // cycles that do not lower the smallest residual so far. A slow but converging solve sets a
+  // new minimum every cycle; only a residual at round-off wanders above it (single precision).
+  SolveReport solve(double relative_tolerance, int max_cycles, int stall_cycles = 0);
   SolveReport run_cycles(int cycles);
   // Flexible GMRES(restart) on the augmented system, preconditioned by one cycle per iteration
   // (multigrid_fgmres.cpp): robust where a few error modes converge slowly (slender embedded

@@ -27,9 +27,16 @@ std::string lattice_text(const Eigen::Vector3d& cells) {
 
 }  // namespace
 
-double estimated_grid_bytes(const Eigen::Vector3d& cells) {
+double estimated_grid_bytes(const Scene& scene, const Eigen::Vector3d& cells) {
   const double padded = (cells.array() + 2.0).prod();  // the level lattice's ghost ring
-  return padded * (4 * kGridBytesPerUnknown * kGridPeakOverWorkingSet + kVoxelizationBytesPerCell);
+  if (scene.material_model == "corotated")
+    return padded * kGridPeakBytesPerPointCorotated * kGridPeakMargin;
+  const double plain = scene.precision == "single"  ? kGridPeakBytesPerPointSingle
+                       : scene.precision == "float" ? kGridPeakBytesPerPointFloat
+                                                    : kGridPeakBytesPerPointDouble;
+  // Single precision iterates plain cycles (no double level for FGMRES).
+  const bool krylov = scene.accelerate && scene.precision != "single";
+  return padded * (plain + (krylov ? kGridFgmresBytesPerPoint : 0.0)) * kGridPeakMargin;
 }
 
 void check_grid_size(const Scene& scene, const Eigen::Vector3d& cells,
@@ -38,7 +45,7 @@ void check_grid_size(const Scene& scene, const Eigen::Vector3d& cells,
                         .pointer = scene.cell_size > 0 ? "/grid/cell_size" : "/grid/resolution"};
   const std::string remedy =
       scene.cell_size > 0 ? "; increase the cell size" : "; lower the resolution";
-  const double estimate = estimated_grid_bytes(cells);
+  const double estimate = estimated_grid_bytes(scene, cells);
   if (available_bytes > 0 && estimate > static_cast<double>(available_bytes))
     throw Error("the grid would need about " + gib(estimate) + " of memory (lattice " +
                     lattice_text(cells) + "), more than the " +

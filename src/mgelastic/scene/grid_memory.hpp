@@ -4,11 +4,21 @@
 // global indices ((Dim + 1) * padded cells < 2^32, level.hpp) and the estimated memory must fit
 // the memory available on this machine (core/system_memory.hpp).
 //
-// Estimate per lattice cell (the level arrays are dense over the box): the solver's working set,
-// kGridBytesPerUnknown per unknown (93 at 128^3 from `mgelastic bench vcycle`, 70 at 256^3; the
-// band rows make it larger on small or thin lattices) times Dim + 1 unknowns, times the peak
-// resident memory over the working set (1.25 at 256^3: 5.0 GiB / 4.1 GB), plus the
-// voxelization's byte-per-cell arrays (occupancy, its dilated copy, a region mask, cell types).
+// Estimate per point of the padded lattice (the level arrays are dense over the box): the peak
+// resident memory of `mgelastic run` on a box, measured per precision, plus FGMRES's Krylov
+// vectors where the run is accelerated, times a margin. The peak is several times the solver's
+// working set (Multigrid::bytes(), 50 / 25 / 43 bytes per unknown at 128^3 in float / single /
+// double): the problem and voxelization arrays, the hierarchy build's temporaries and the Krylov
+// vectors come on top. Measured 2026-12-04 (`/usr/bin/time -v mgelastic run`, 1 thread, a 1 m
+// cube at grid.resolution 128, 132^3 padded points, 2 V-cycles, obj output): single 865 MB,
+// float 974 MB (1486 with accelerate), double 934 MB (1366 with accelerate). Per point the peak
+// falls with size (at 192 without output: single 315 instead of 385, float accelerated 633
+// instead of 662) and grows on small lattices whose coarsest level is large (96: double
+// accelerated 770 instead of 608, 3 levels), where the margin still covers it (805).
+// The co-rotated model holds far more (its rotated rows and box-smoother blocks): a 96^3 cube
+// had reached 8.6 GB (8600 bytes per point) when it was stopped in its first frame, a 32^3
+// one 1.1 GB (24000 per point, 2 levels, a large coarsest factor); 8600 is a lower bound
+// there, kept for lattices large enough to be refused.
 #include <cstdint>
 
 #include <Eigen/Core>
@@ -17,12 +27,19 @@
 
 namespace mgelastic::scene {
 
-inline constexpr double kGridBytesPerUnknown = 93.0;
-inline constexpr double kGridPeakOverWorkingSet = 1.25;
-inline constexpr double kVoxelizationBytesPerCell = 4.0;
+// Peak bytes per padded lattice point of a plain-cycle run by solver.precision, measured as above.
+inline constexpr double kGridPeakBytesPerPointSingle = 385.0;
+inline constexpr double kGridPeakBytesPerPointFloat = 434.0;
+inline constexpr double kGridPeakBytesPerPointDouble = 416.0;
+inline constexpr double kGridPeakBytesPerPointCorotated = 8600.0;
+// What solver.accelerate (FGMRES's double Krylov vectors) adds (float: 662 - 434).
+inline constexpr double kGridFgmresBytesPerPoint = 228.0;
+// Embedded bodies' band rows, other thread counts and allocator slack.
+inline constexpr double kGridPeakMargin = 1.25;
 
-// Estimated peak memory of a grid scene whose voxel lattice has `cells` per axis, bytes.
-double estimated_grid_bytes(const Eigen::Vector3d& cells);
+// Estimated peak memory of the grid scene `scene` whose voxel lattice has `cells` per axis,
+// bytes (its material.model, solver.precision and solver.accelerate).
+double estimated_grid_bytes(const Scene& scene, const Eigen::Vector3d& cells);
 
 // Throws Error (pointer /grid/resolution, or /grid/cell_size when the scene sets it) when the
 // lattice exceeds the index range or the estimate exceeds `available_bytes` (0 = unknown: only

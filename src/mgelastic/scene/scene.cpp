@@ -80,6 +80,32 @@ std::vector<Scene::Probe> parse_probes(const nlohmann::json& probes, const std::
   return out;
 }
 
+// Precision single (float cycles, float solution) has no double solution level: what needs one
+// is refused here, before any work, naming the field. `document` is the file as written, so an
+// accelerate left at its default is not held against it (single then iterates cycles alone).
+void check_single_precision(const Scene& s, const nlohmann::json& document) {
+  if (s.engine != "grid" || s.precision != "single") return;
+  const ErrorContext at{.file = s.file, .pointer = "/solver/precision"};
+  if (s.material_model == "corotated")
+    throw Error(
+        "\"single\" runs the linear model only: the co-rotated model's rotations and "
+        "Newton steps need double; use \"float\" (mixed precision) or \"double\"",
+        at);
+  if (!s.time.quasistatic)
+    throw Error(
+        "\"single\" runs quasistatic scenes only: backward Euler writes each step's "
+        "right-hand side and start on a double solution level, which single precision "
+        "does not have; use \"float\" (the same float cycles, mixed precision)",
+        at);
+  const auto solver = document.find("solver");
+  if (s.accelerate && solver != document.end() && solver->contains("accelerate"))
+    throw Error(
+        "\"single\" cannot use \"accelerate\": true: FGMRES works on a double solution "
+        "level, which single precision does not have; set accelerate to false or use "
+        "\"float\"",
+        at);
+}
+
 }  // namespace
 
 Scene parse_scene(const nlohmann::json& document, const std::string& file,
@@ -141,6 +167,7 @@ Scene parse_scene(const nlohmann::json& document, const std::string& file,
   for (const auto& f : d["output"]["formats"]) s.formats.push_back(f);
   s.vtk_encoding = d["output"]["vtk_encoding"];
   s.probes = parse_probes(d["output"]["probes"], file);
+  check_single_precision(s, document);
   return s;
 }
 

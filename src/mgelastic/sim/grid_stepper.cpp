@@ -13,6 +13,10 @@ namespace {
 
 using VectorField = std::function<grid::Vec<3>(const grid::Vec<3>&)>;
 
+// Single precision: cycles without a new smallest residual before a solve counts as stalled at
+// float round-off (a converging solve, however slowly, lowers it every cycle).
+constexpr int kStallCycles = 3;
+
 double reduction(const std::vector<double>& residuals) {
   return residuals.front() > 0 ? residuals.back() / residuals.front() : 0.0;
 }
@@ -22,6 +26,8 @@ grid::MultigridOptions multigrid_options(const scene::Scene& s) {
   options.boundary_sweeps = s.boundary_sweeps;
   options.band_layers = s.band_layers;
   options.cycle = s.cycle == "W" ? grid::CycleType::W : grid::CycleType::V;
+  // "single": the float finest level holds the solution (no double copy); "float": mixed.
+  options.mixed_precision = s.precision != "single";
   return options;
 }
 
@@ -48,6 +54,7 @@ StepStats linear_stats(const grid::SolveReport& r) {
   return {.cycles = r.cycles(),
           .relative_residual = reduction(r.residuals),
           .converged = r.converged,
+          .stalled = r.stalled,
           .seconds = r.seconds};
 }
 
@@ -172,10 +179,19 @@ class HierarchySolver : public GridStepper::Solver {
     hierarchy().set_solution_state(state);
   }
   const std::array<std::vector<double>, 4>& right_hand_side() const override {
-    return hierarchy().solution_level().b;
+    if (!hierarchy().single_precision()) return hierarchy().solution_level().b;
+    // Single precision: the float finest level holds b; a double copy made on request.
+    const auto& b = hierarchy().finest().b;
+    for (std::size_t f = 0; f < b.size(); ++f) m_single_rhs[f].assign(b[f].begin(), b[f].end());
+    return m_single_rhs;
   }
   void set_right_hand_side(const std::array<std::vector<double>, 4>& b) override {
-    hierarchy().solution_level().b = b;
+    if (!hierarchy().single_precision()) {
+      hierarchy().solution_level().b = b;
+      return;
+    }
+    auto& finest = hierarchy().level(0).b;
+    for (std::size_t f = 0; f < b.size(); ++f) finest[f].assign(b[f].begin(), b[f].end());
   }
 
  protected:
@@ -183,6 +199,9 @@ class HierarchySolver : public GridStepper::Solver {
   const grid::Multigrid<3, Scalar>& hierarchy() const {
     return const_cast<HierarchySolver*>(this)->hierarchy();
   }
+
+ private:
+  mutable std::array<std::vector<double>, 4> m_single_rhs;  // right_hand_side() in single
 };
 
 template <typename Scalar>
@@ -192,12 +211,19 @@ class LinearStatic final : public HierarchySolver<Scalar> {
       : m_scene(s), m_mg(setup.problem, multigrid_options(s)) {}
   StepStats solve(double, const VectorField& dirichlet) override {
     if (dirichlet) m_mg.set_dirichlet_displacement(dirichlet);
+    // Single precision has no double solution level for FGMRES (scene validation refuses an
+    // explicit accelerate); its plain cycles stop where float round-off stalls the residual.
+    if (m_mg.single_precision())
+      return linear_stats(m_mg.solve(m_scene.tolerance, m_scene.max_vcycles, kStallCycles));
     return linear_stats(m_scene.accelerate
                             ? m_mg.solve_accelerated(m_scene.tolerance, m_scene.max_vcycles)
                             : m_mg.solve(m_scene.tolerance, m_scene.max_vcycles));
   }
   std::size_t bytes() const override { return m_mg.bytes(); }
-  const grid::Level<3, double>* linear_solution() const override { return &m_mg.solution_level(); }
+  // Reactions sum the double solution level's rows: none in single precision.
+  const grid::Level<3, double>* linear_solution() const override {
+    return m_mg.single_precision() ? nullptr : &m_mg.solution_level();
+  }
   void set_loads(const grid::ElasticityProblem<3>& problem) override { m_mg.set_loads(problem); }
 
  protected:
