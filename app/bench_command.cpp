@@ -86,6 +86,7 @@ grid::MultigridOptions multigrid_options(const BoxBenchOptions& o) {
     options.coarsest_max_boundary_fraction = o.coarsest_max_boundary_fraction;
   options.coarse_fill_weights = !o.no_coarse_fill_weights;
   options.repair_coarse_cells = !o.no_repair_coarse_cells;
+  options.misaligned_dirichlet_depth = !o.no_misaligned_clamp_depth;
   return options;
 }
 
@@ -818,6 +819,8 @@ void register_bench_commands(CLI::App& app) {
                    "The paper's unweighted coarse operator");
   vcycle->add_flag("--no-repair-coarse-cells", profile_options.no_repair_coarse_cells,
                    "Coarse typings without the repair of hinges and sheets");
+  vcycle->add_flag("--no-misaligned-clamp-depth", profile_options.no_misaligned_clamp_depth,
+                   "Coarse clamps at the finest depth only where a coarse wall is a finest wall");
   vcycle->add_flag("--json", profile_options.json, "Print JSON instead of a table");
   static std::vector<std::string> profile_meshes;
   static int profile_resolution = 128;

@@ -32,6 +32,7 @@ struct BoxBenchOptions {
   int coarsest_min_cells = -1;
   double coarsest_max_boundary_fraction = -1;
   bool no_coarse_fill_weights = false;
+  bool no_misaligned_clamp_depth = false;
   bool no_repair_coarse_cells = false;
 };
 

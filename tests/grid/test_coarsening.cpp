@@ -107,6 +107,43 @@ TEST(Coarsening, PatchThatCoarsensIntoAHingeKeepsARepairedCoarseLevel) {
   EXPECT_TRUE(repaired.solve_accelerated(1e-6, 40).converged);
 }
 
+// Decision 8a's walls on clamps whose top lies between coarse faces (a flat clamp of t finest
+// rows, top at z = t): the entry of the coarse Dirichlet cell's upper z face is 1 + the finest
+// layers between its face and the finest wall, on every level; where the first layer with a
+// Dirichlet cell is only partly Dirichlet (a stepped clamp top inside the coarse cell), 0.
+TEST(Coarsening, WallLayersLocateAMisalignedClampTop) {
+  const Lattice<3> finest(IVec<3>(8, 8, 8), 1.0);
+  const auto walls = [&](const std::function<int(const IVec<3>&)>& top, int levels,
+                         const IVec<3>& coarse_cell) {
+    std::vector<CellType> cells(finest.size(), CellType::EXTERIOR);
+    for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(finest.size()); ++k) {
+      const IVec<3> s = finest.coords(k);
+      if (finest.is_real(s)) cells[k] = s[2] <= top(s) ? CellType::DIRICHLET : CellType::INTERIOR;
+    }
+    Lattice<3> lattice = finest;
+    std::vector<CellType> coarse = cells;
+    for (int l = 0; l < levels; ++l) {
+      coarse = coarsen_cells(lattice, coarse);
+      lattice = coarsen(lattice);
+    }
+    EXPECT_EQ(coarse[lattice.index(coarse_cell)], CellType::DIRICHLET);
+    const std::vector<std::uint8_t> w =
+        finest_aligned_dirichlet_faces(finest, cells, lattice, coarse, 1 << levels);
+    return static_cast<int>(w[lattice.index(coarse_cell) * 6 + 2 * 2 + 1]);
+  };
+  const auto flat = [](int t) { return [t](const IVec<3>&) { return t; }; };
+  EXPECT_EQ(walls(flat(2), 1, IVec<3>(2, 2, 1)), 1);  // aligned: the coarse wall is the finest
+  EXPECT_EQ(walls(flat(3), 1, IVec<3>(2, 2, 2)), 2);  // one finest layer below the coarse wall
+  EXPECT_EQ(walls(flat(3), 2, IVec<3>(1, 1, 1)), 2);
+  EXPECT_EQ(walls(flat(1), 2, IVec<3>(1, 1, 1)), 4);  // three layers below
+  EXPECT_EQ(walls(flat(4), 2, IVec<3>(1, 1, 1)), 1);
+  // Top at 3 for x <= 3, at 2 beyond: the coarse cell x 3-4 has a stepped top.
+  const auto stepped = [](const IVec<3>& s) { return s[0] <= 3 ? 3 : 2; };
+  EXPECT_EQ(walls(stepped, 1, IVec<3>(1, 1, 2)), 2);
+  EXPECT_EQ(walls(stepped, 1, IVec<3>(2, 1, 2)), 0);
+  EXPECT_EQ(walls(stepped, 1, IVec<3>(3, 1, 1)), 1);
+}
+
 // Boxes need no repair: their coarse typings stay exactly the coarsened ones.
 TEST(Coarsening, RepairLeavesBoxesUnchanged) {
   ElasticityProblem<3> box = typed_problem<3>(

@@ -33,35 +33,41 @@ std::vector<std::uint8_t> finest_aligned_dirichlet_faces(const Lattice<Dim>& fin
                                                          const std::vector<CellType>& finest_cells,
                                                          const Lattice<Dim>& coarse,
                                                          const std::vector<CellType>& coarse_cells,
-                                                         int factor) {
-  std::vector<std::uint8_t> faces(coarse.size(), 0);
+                                                         int factor, bool misaligned) {
+  constexpr int faces = 2 * Dim;
+  std::vector<std::uint8_t> walls(coarse.size() * faces, 0);
   for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(coarse.size()); ++k) {
     const IVec<Dim> cs = coarse.coords(k);
     if (!coarse.is_real(cs) || coarse_cells[k] != CellType::DIRICHLET) continue;
     for (int a = 0; a < Dim; ++a) {
       for (int side = 0; side < 2; ++side) {
-        // The finest cells of the layer: every descendant along the other axes, one coordinate
-        // along a.
-        IVec<Dim> lo, hi;
-        for (int b = 0; b < Dim; ++b) {
-          lo[b] = (cs[b] - 1) * factor + 1;
-          hi[b] = cs[b] * factor;
+        // Finest layers of the cell along a, from the face inward: the first one that holds a
+        // Dirichlet cell must be all Dirichlet, and it is the finest wall.
+        for (int layer = 0; layer < (misaligned ? factor : 1); ++layer) {
+          IVec<Dim> lo, hi;
+          for (int b = 0; b < Dim; ++b) {
+            lo[b] = (cs[b] - 1) * factor + 1;
+            hi[b] = cs[b] * factor;
+          }
+          lo[a] = hi[a] = side == 0 ? lo[a] + layer : hi[a] - layer;
+          bool all = true, some = false;
+          IVec<Dim> s = lo;
+          while (true) {
+            const CellType cell =
+                finest.is_real(s) ? finest_cells[finest.index(s)] : CellType::EXTERIOR;
+            all = all && cell == CellType::DIRICHLET;
+            some = some || cell == CellType::DIRICHLET;
+            int b = 0;
+            for (; b < Dim && ++s[b] > hi[b]; ++b) s[b] = lo[b];
+            if (b == Dim) break;
+          }
+          if (all && some) walls[k * faces + 2 * a + side] = static_cast<std::uint8_t>(layer + 1);
+          if (some) break;
         }
-        if (side == 0) hi[a] = lo[a];
-        if (side == 1) lo[a] = hi[a];
-        bool all = true;
-        IVec<Dim> s = lo;
-        while (all) {
-          all = finest.is_real(s) && finest_cells[finest.index(s)] == CellType::DIRICHLET;
-          int b = 0;
-          for (; b < Dim && ++s[b] > hi[b]; ++b) s[b] = lo[b];
-          if (b == Dim) break;
-        }
-        if (all) faces[k] |= static_cast<std::uint8_t>(1u << (2 * a + side));
       }
     }
   }
-  return faces;
+  return walls;
 }
 
 template <int Dim>
@@ -93,12 +99,12 @@ template std::vector<std::uint8_t> finest_aligned_dirichlet_faces<2>(const Latti
                                                                      const std::vector<CellType>&,
                                                                      const Lattice<2>&,
                                                                      const std::vector<CellType>&,
-                                                                     int);
+                                                                     int, bool);
 template std::vector<std::uint8_t> finest_aligned_dirichlet_faces<3>(const Lattice<3>&,
                                                                      const std::vector<CellType>&,
                                                                      const Lattice<3>&,
                                                                      const std::vector<CellType>&,
-                                                                     int);
+                                                                     int, bool);
 template int repair_coarse_cells<2>(const Lattice<2>&, std::vector<CellType>&);
 template int repair_coarse_cells<3>(const Lattice<3>&, std::vector<CellType>&);
 template Lattice<2> coarsen<2>(const Lattice<2>&);

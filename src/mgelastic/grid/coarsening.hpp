@@ -22,21 +22,25 @@ Lattice<Dim> coarsen(const Lattice<Dim>& fine);
 template <int Dim>
 std::vector<CellType> coarsen_cells(const Lattice<Dim>& fine, const std::vector<CellType>& cells);
 
-// Turns exterior real cells into interior ones until every non-exterior cell lies in a fully
-// non-exterior 2^d block and the full blocks of each face-connected piece form one chain of
-// blocks sharing 2^(d-1) x 1 halves (geometry::thicken_to_full_blocks, connect_full_blocks).
-// The ghost ring stays exterior. Returns the number of cells added.
-// Faces of a coarse level's Dirichlet cells that lie on the finest level's Dirichlet wall: bit
-// 2 a + side (side 0 = lower, 1 = upper face along e_a) is set when every finest cell of the
-// coarse cell's layer at that face is Dirichlet (`factor` = coarse h / finest h). Only there may
-// a coarse level clamp at the finest level's depth (Level::dirichlet_zero_depth).
+// Where a coarse level's Dirichlet cells meet the finest level's Dirichlet wall, per cell and
+// face (entry 2 Dim cell + 2 a + side; side 0 = lower, 1 = upper face along e_a; `factor` =
+// coarse h / finest h): m + 1 when the finest wall lies m finest cells inside the coarse cell
+// behind that face (the first finest layer from the face that holds a Dirichlet cell is all
+// Dirichlet and is the m-th), 0 otherwise. Only there may a coarse level clamp at the finest
+// level's depth (Level::dirichlet_zero_depth), m h_finest deeper than its own wall: a clamp top
+// between coarse faces then acts where the finest one does, not up to 2^l - 1 finest cells higher.
+// `misaligned` false: only faces that are finest walls (m = 0).
 template <int Dim>
 std::vector<std::uint8_t> finest_aligned_dirichlet_faces(const Lattice<Dim>& finest,
                                                          const std::vector<CellType>& finest_cells,
                                                          const Lattice<Dim>& coarse,
                                                          const std::vector<CellType>& coarse_cells,
-                                                         int factor);
+                                                         int factor, bool misaligned = true);
 
+// Turns exterior real cells into interior ones until every non-exterior cell lies in a fully
+// non-exterior 2^d block and the full blocks of each face-connected piece form one chain of
+// blocks sharing 2^(d-1) x 1 halves (geometry::thicken_to_full_blocks, connect_full_blocks).
+// The ghost ring stays exterior. Returns the number of cells added.
 template <int Dim>
 int repair_coarse_cells(const Lattice<Dim>& lattice, std::vector<CellType>& cells);
 

@@ -42,12 +42,13 @@ void RowBuilder<Dim>::fold_tangential_dirichlet(int axis, std::ptrdiff_t k,
   const double half = 0.5 * m_lattice.h;
   if (m_dirichlet_zero_depth <= 0.0 || m_dirichlet_zero_depth >= half) return;
   if (!m_aligned_dirichlet_faces || m_aligned_dirichlet_faces->empty()) return;
-  const auto& aligned = *m_aligned_dirichlet_faces;
-  const double ratio = (half - m_dirichlet_zero_depth) / (half + m_dirichlet_zero_depth);
+  const auto& walls = *m_aligned_dirichlet_faces;
   const std::ptrdiff_t si = m_lattice.stride(axis);
-  // The cell's face toward the row (bit 2 j + side) lies on the finest Dirichlet wall.
-  auto clamped = [&](std::ptrdiff_t cell, int j, int side) {
-    return m_cells[cell] == CellType::DIRICHLET && ((aligned[cell] >> (2 * j + side)) & 1u);
+  // Finest cells between the cell's face toward the row (2 j + side) and the finest wall behind
+  // it, or -1 where that face does not meet the finest wall.
+  auto wall_layers = [&](std::ptrdiff_t cell, int j, int side) {
+    if (m_cells[cell] != CellType::DIRICHLET) return -1;
+    return static_cast<int>(walls[cell * 2 * Dim + 2 * j + side]) - 1;
   };
   double self = 0.0;
   for (int j = 0; j < Dim; ++j) {
@@ -55,7 +56,11 @@ void RowBuilder<Dim>::fold_tangential_dirichlet(int axis, std::ptrdiff_t k,
     for (const int side : {0, 1}) {
       // side 0: the neighbor above the row along e_j, seen through its lower face.
       const std::ptrdiff_t nb = side == 0 ? k + m_lattice.stride(j) : k - m_lattice.stride(j);
-      if (!clamped(nb, j, side) || !clamped(nb - si, j, side)) continue;
+      const int upper = wall_layers(nb, j, side), lower = wall_layers(nb - si, j, side);
+      if (upper < 0 || lower < 0) continue;
+      // The variable sits on the face between the two cells: their mean wall depth.
+      const double depth = m_dirichlet_zero_depth * (1 + upper + lower);
+      const double ratio = (half - depth) / (half + depth);
       for (RowTerm& t : row.terms) {
         if (t.variable != u(axis, nb)) continue;
         self -= ratio * t.coefficient;

@@ -12,8 +12,10 @@
 // tangential Dirichlet neighbor across a Dirichlet wall sits H/2 inside the Dirichlet region,
 // where the finest level's sits h/2 inside; it is replaced by the linear extrapolation of the
 // row's own variable to zero at the finest level's depth d (only across faces of
-// `aligned_dirichlet_faces`, where the coarse wall is the finest one): u_ghost = -(H/2 - d)/(H/2 +
-// d) u_self, so every level clamps the tangential correction at the same place. The inertia term of
+// `aligned_dirichlet_faces` that meet the finest wall; d = h/2 + the finest layers m between the
+// coarse wall and the finest one times h, the mean of the variable's two cells, as a clamp top
+// between coarse faces lies inside the coarse Dirichlet cells): u_ghost = -(H/2 - d)/(H/2 + d)
+// u_self, so every level clamps the tangential correction at the same place. The inertia term of
 // a dynamics step (Sec. 8), -c u_i, is part of every momentum row. Optional fill weights w
 // (fill_weights.hpp) scale the stresses of coarse cells: P_ii(cell) by w(cell), P_ij(edge) by the
 // mean w of its four cells, and the inertia of a face by the mean w of its two cells. Pressure rows

@@ -110,8 +110,9 @@ struct Level {
   // Coarse levels: depth inside the Dirichlet region where the finest level's tangential
   // Dirichlet variables sit (h_finest / 2); 0 on the finest level (explicit_rows.hpp).
   double dirichlet_zero_depth = 0.0;
-  // Per cell: faces of Dirichlet cells on the finest level's Dirichlet wall (bits of
-  // finest_aligned_dirichlet_faces, coarsening.hpp); only these clamp at that depth.
+  // Per cell and face (2 Dim k + 2 a + side): where a Dirichlet cell's face meets the finest
+  // level's Dirichlet wall, 1 + the finest layers between them (finest_aligned_dirichlet_faces,
+  // coarsening.hpp), else 0; only these faces clamp at the finest depth.
   std::vector<std::uint8_t> aligned_dirichlet_faces;
   std::array<std::vector<Scalar>, Dim + 1> x, b, r;
   std::array<std::vector<VarKind>, Dim + 1> kind;

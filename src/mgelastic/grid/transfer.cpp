@@ -249,19 +249,24 @@ Sample coarse_sample(const Level<Dim, Scalar>& coarse, int field, const IVec<Dim
   }
 }
 
-// Whether the coarse u_field variable at s (a Dirichlet sample beyond the interpolated point
-// along `axis`, above it when `above`) sits behind a face of the finest level's Dirichlet wall.
+// Where the zero of a clamped correction lies behind the coarse u_field variable at s (a
+// Dirichlet sample beyond the interpolated point along `axis`, above it when `above`), in coarse
+// cells past the coarse wall: the finest level's depth when the sample sits behind the finest
+// Dirichlet wall (finest_aligned_dirichlet_faces), else 0 (the wall itself).
 template <int Dim, typename Scalar>
-bool on_finest_wall(const Level<Dim, Scalar>& coarse, int field, const IVec<Dim>& s, int axis,
-                    bool above) {
-  if (coarse.aligned_dirichlet_faces.empty()) return false;
+double finest_wall_depth(const Level<Dim, Scalar>& coarse, int field, const IVec<Dim>& s, int axis,
+                         bool above) {
+  if (coarse.aligned_dirichlet_faces.empty()) return 0.0;
   const std::ptrdiff_t k = coarse.lattice.index(s);
-  const unsigned bit = 2u * static_cast<unsigned>(axis) + (above ? 0u : 1u);
-  for (const std::ptrdiff_t cell : {k, k - coarse.lattice.stride(field)})
-    if (coarse.cells[cell] != CellType::DIRICHLET ||
-        !((coarse.aligned_dirichlet_faces[cell] >> bit) & 1u))
-      return false;
-  return true;
+  const int face = 2 * axis + (above ? 0 : 1);
+  int layers = 1;
+  for (const std::ptrdiff_t cell : {k, k - coarse.lattice.stride(field)}) {
+    if (coarse.cells[cell] != CellType::DIRICHLET) return 0.0;
+    const int wall = coarse.aligned_dirichlet_faces[cell * 2 * Dim + face];
+    if (wall == 0) return 0.0;
+    layers += wall - 1;
+  }
+  return coarse.dirichlet_zero_depth * layers / coarse.lattice.h;
 }
 
 // Tensor-product interpolation, one axis at a time from the last to the first.
@@ -275,10 +280,11 @@ Sample interpolate(const Level<Dim, Scalar>& coarse, int field, const std::array
   if (t.size() == 1) return first;
   s[axis] = t[1].coordinate;
   const Sample second = interpolate<Dim, Scalar>(coarse, field, taps, s, axis - 1);
-  const bool clamped = second.state == Sample::DIRICHLET && axis != field &&
-                       on_finest_wall(coarse, field, s, axis, t[1].coordinate > t[0].coordinate);
-  return combine(first, t[0].weight, second, t[1].weight, axis != field,
-                 clamped ? coarse.dirichlet_zero_depth / coarse.lattice.h : 0.0);
+  const double depth =
+      second.state == Sample::DIRICHLET && axis != field
+          ? finest_wall_depth(coarse, field, s, axis, t[1].coordinate > t[0].coordinate)
+          : 0.0;
+  return combine(first, t[0].weight, second, t[1].weight, axis != field, depth);
 }
 
 // Coarse rows read by a fine storage row: the taps along axes 1..Dim-1 combined in the order
