@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <numeric>
 #include <string>
 #include <unordered_map>
 
@@ -231,8 +232,9 @@ void build_band_runs(Level<Dim, Scalar>& level) {
       order.insert(order.end(), steps.begin() + i, steps.begin() + end);
     }
   };
-  // The steps of x-runs keep their order; the others (on faces across x, where the band is a
-  // few cells thick in x) follow, ordered with y fastest, and run along y.
+  // The steps of x-runs keep their order; then the runs along y among the others (faces across
+  // x, where the band is a few cells thick in x), found with y fastest; then the remaining steps
+  // in their original order (sorting them too cost the embedded shapes' bands their locality).
   auto add_items = [&](const std::vector<Step<Dim>>& steps, std::vector<std::uint32_t>& items,
                        std::vector<Step<Dim>>& order) {
     std::vector<std::uint32_t> shape_of;
@@ -242,11 +244,26 @@ void build_band_runs(Level<Dim, Scalar>& level) {
       auto& to = static_cast<int>(length[i]) >= kBandRunMinLength ? along_x : rest;
       to.insert(to.end(), steps.begin() + i, steps.begin() + i + length[i]);
     }
-    std::stable_sort(rest.begin(), rest.end(), [&](const Step<Dim>& a, const Step<Dim>& b) {
-      return across_order(level, a) < across_order(level, b);
+    std::vector<std::size_t> sorted(rest.size());
+    std::iota(sorted.begin(), sorted.end(), std::size_t{0});
+    std::stable_sort(sorted.begin(), sorted.end(), [&](std::size_t a, std::size_t b) {
+      return across_order(level, rest[a]) < across_order(level, rest[b]);
     });
+    std::vector<Step<Dim>> by_y(rest.size());
+    for (std::size_t i = 0; i < sorted.size(); ++i) by_y[i] = rest[sorted[i]];
+    const std::vector<std::size_t> y_length = find_runs(by_y, across, shape_of);
+    std::vector<Step<Dim>> along_y, others;
+    std::vector<std::uint8_t> in_y_run(rest.size(), 0);
+    for (std::size_t i = 0; i < by_y.size(); i += y_length[i]) {
+      if (static_cast<int>(y_length[i]) < kBandRunMinLength) continue;
+      along_y.insert(along_y.end(), by_y.begin() + i, by_y.begin() + i + y_length[i]);
+      for (std::size_t j = i; j < i + y_length[i]; ++j) in_y_run[sorted[j]] = 1;
+    }
+    for (std::size_t i = 0; i < rest.size(); ++i)
+      if (!in_y_run[i]) others.push_back(rest[i]);
     emit(along_x, 1, items, order);
-    emit(rest, across, items, order);
+    emit(along_y, across, items, order);
+    emit(others, 1, items, order);
   };
   for (int c = 0; c < (1 << Dim); ++c) {
     runs.schedule[c].resize(level.band_schedule[c].size());
