@@ -18,10 +18,11 @@
 // step-by-step sweep up to round-off. Shapes whose couplings reach further than kMaxLag steps cap
 // their runs below that reach, so every coupling inside a run is one of C_1..C_J.
 //
-// Runs along y: where the band is only a few cells thick in x (faces across x) the steps of a
-// block off the x-runs are ordered with y fastest and form runs one lattice row apart (stride
-// n_x; pass 1 then gathers); build_band_runs writes that order back into Level::band_schedule,
-// so the step-by-step sweep keeps the run-wise one's order.
+// Runs along y: where the band is only a few cells thick in x (faces across x), a block's steps
+// off the x-runs, taken with y fastest, form runs one lattice row apart (stride n_x; passes 1
+// and 3 strided). A block's order: its x-runs, its y-runs, then its other steps in their original
+// order. build_band_runs writes that order back into Level::band_schedule, so the step-by-step
+// sweep keeps the run-wise one's order.
 //
 // Layout: steps of one run have members a = 0..members-1; the band_u row of member a at step s is
 // rows[first_row + s * members + a]; its target is target + offset[a] + s * stride in field
