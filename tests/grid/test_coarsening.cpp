@@ -128,7 +128,7 @@ TEST(Coarsening, WallLayersLocateAMisalignedClampTop) {
     }
     EXPECT_EQ(coarse[lattice.index(coarse_cell)], CellType::DIRICHLET);
     const std::vector<std::uint8_t> w =
-        finest_aligned_dirichlet_faces(finest, cells, lattice, coarse, 1 << levels);
+        finest_dirichlet_wall_layers(finest, cells, lattice, coarse, 1 << levels);
     return static_cast<int>(w[lattice.index(coarse_cell) * 6 + 2 * 2 + 1]);
   };
   const auto flat = [](int t) { return [t](const IVec<3>&) { return t; }; };

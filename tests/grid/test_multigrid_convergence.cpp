@@ -90,7 +90,7 @@ TEST(MultigridSolve, RecedingCoarseClampSlowsDeepHierarchies) {
 // Decision 8a on a misaligned clamp: the slab of the mixed box is n/8 finest rows thick, at 24^3
 // 3 rows, so the coarse Dirichlet cells' wall stands one finest row above the finest one; at
 // 80^2 10 rows, two above it on the third level. Clamping the coarse tangential corrections at
-// the finest wall (misaligned_dirichlet_depth; finest_aligned_dirichlet_faces counts the layers)
+// the finest wall (misaligned_dirichlet_depth; finest_dirichlet_wall_layers counts the layers)
 // instead of the coarse wall brings the rate toward the aligned boxes' (3D 48^3, nu 0.48: 0.23).
 // Measured: 3D 24^3 float nu 0.48 0.328 instead of 0.399; 2D 80^2 nu 0.49 0.284 instead of 0.321.
 TEST(MultigridSolve, MisalignedClampIsClampedAtTheFinestDepth) {

@@ -29,11 +29,11 @@ std::vector<CellType> coarsen_cells(const Lattice<Dim>& fine, const std::vector<
 }
 
 template <int Dim>
-std::vector<std::uint8_t> finest_aligned_dirichlet_faces(const Lattice<Dim>& finest,
-                                                         const std::vector<CellType>& finest_cells,
-                                                         const Lattice<Dim>& coarse,
-                                                         const std::vector<CellType>& coarse_cells,
-                                                         int factor, bool misaligned) {
+std::vector<std::uint8_t> finest_dirichlet_wall_layers(const Lattice<Dim>& finest,
+                                                       const std::vector<CellType>& finest_cells,
+                                                       const Lattice<Dim>& coarse,
+                                                       const std::vector<CellType>& coarse_cells,
+                                                       int factor, bool misaligned) {
   constexpr int faces = 2 * Dim;
   std::vector<std::uint8_t> walls(coarse.size() * faces, 0);
   for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(coarse.size()); ++k) {
@@ -95,16 +95,16 @@ int repair_coarse_cells(const Lattice<Dim>& lattice, std::vector<CellType>& cell
   return added;
 }
 
-template std::vector<std::uint8_t> finest_aligned_dirichlet_faces<2>(const Lattice<2>&,
-                                                                     const std::vector<CellType>&,
-                                                                     const Lattice<2>&,
-                                                                     const std::vector<CellType>&,
-                                                                     int, bool);
-template std::vector<std::uint8_t> finest_aligned_dirichlet_faces<3>(const Lattice<3>&,
-                                                                     const std::vector<CellType>&,
-                                                                     const Lattice<3>&,
-                                                                     const std::vector<CellType>&,
-                                                                     int, bool);
+template std::vector<std::uint8_t> finest_dirichlet_wall_layers<2>(const Lattice<2>&,
+                                                                   const std::vector<CellType>&,
+                                                                   const Lattice<2>&,
+                                                                   const std::vector<CellType>&,
+                                                                   int, bool);
+template std::vector<std::uint8_t> finest_dirichlet_wall_layers<3>(const Lattice<3>&,
+                                                                   const std::vector<CellType>&,
+                                                                   const Lattice<3>&,
+                                                                   const std::vector<CellType>&,
+                                                                   int, bool);
 template int repair_coarse_cells<2>(const Lattice<2>&, std::vector<CellType>&);
 template int repair_coarse_cells<3>(const Lattice<3>&, std::vector<CellType>&);
 template Lattice<2> coarsen<2>(const Lattice<2>&);

@@ -31,11 +31,11 @@ std::vector<CellType> coarsen_cells(const Lattice<Dim>& fine, const std::vector<
 // between coarse faces then acts where the finest one does, not up to 2^l - 1 finest cells higher.
 // `misaligned` false: only faces that are finest walls (m = 0).
 template <int Dim>
-std::vector<std::uint8_t> finest_aligned_dirichlet_faces(const Lattice<Dim>& finest,
-                                                         const std::vector<CellType>& finest_cells,
-                                                         const Lattice<Dim>& coarse,
-                                                         const std::vector<CellType>& coarse_cells,
-                                                         int factor, bool misaligned = true);
+std::vector<std::uint8_t> finest_dirichlet_wall_layers(const Lattice<Dim>& finest,
+                                                       const std::vector<CellType>& finest_cells,
+                                                       const Lattice<Dim>& coarse,
+                                                       const std::vector<CellType>& coarse_cells,
+                                                       int factor, bool misaligned = true);
 
 // Turns exterior real cells into interior ones until every non-exterior cell lies in a fully
 // non-exterior 2^d block and the full blocks of each face-connected piece form one chain of

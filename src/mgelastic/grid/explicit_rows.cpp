@@ -26,7 +26,7 @@ template <int Dim>
 RowBuilder<Dim>::RowBuilder(const Lattice<Dim>& lattice, const std::vector<CellType>& cells,
                             double mu, BoundaryStress<Dim> sigma, double inertia,
                             const std::vector<double>* cell_weight, double dirichlet_zero_depth,
-                            const std::vector<std::uint8_t>* aligned_dirichlet_faces)
+                            const std::vector<std::uint8_t>* dirichlet_wall_layers)
     : m_lattice(lattice),
       m_cells(cells),
       m_mu(mu),
@@ -34,15 +34,15 @@ RowBuilder<Dim>::RowBuilder(const Lattice<Dim>& lattice, const std::vector<CellT
       m_inertia(inertia),
       m_cell_weight(cell_weight),
       m_dirichlet_zero_depth(dirichlet_zero_depth),
-      m_aligned_dirichlet_faces(aligned_dirichlet_faces) {}
+      m_dirichlet_wall_layers(dirichlet_wall_layers) {}
 
 template <int Dim>
 void RowBuilder<Dim>::fold_tangential_dirichlet(int axis, std::ptrdiff_t k,
                                                 ExplicitRow& row) const {
   const double half = 0.5 * m_lattice.h;
   if (m_dirichlet_zero_depth <= 0.0 || m_dirichlet_zero_depth >= half) return;
-  if (!m_aligned_dirichlet_faces || m_aligned_dirichlet_faces->empty()) return;
-  const auto& walls = *m_aligned_dirichlet_faces;
+  if (!m_dirichlet_wall_layers || m_dirichlet_wall_layers->empty()) return;
+  const auto& walls = *m_dirichlet_wall_layers;
   const std::ptrdiff_t si = m_lattice.stride(axis);
   // Finest cells between the cell's face toward the row (2 j + side) and the finest wall behind
   // it, or -1 where that face does not meet the finest wall.

@@ -12,7 +12,7 @@
 // tangential Dirichlet neighbor across a Dirichlet wall sits H/2 inside the Dirichlet region,
 // where the finest level's sits h/2 inside; it is replaced by the linear extrapolation of the
 // row's own variable to zero at the finest level's depth d (only across faces of
-// `aligned_dirichlet_faces` that meet the finest wall; d = h/2 + the finest layers m between the
+// `dirichlet_wall_layers` that meet the finest wall; d = h/2 + the finest layers m between the
 // coarse wall and the finest one times h, the mean of the variable's two cells, as a clamp top
 // between coarse faces lies inside the coarse Dirichlet cells): u_ghost = -(H/2 - d)/(H/2 + d)
 // u_self, so every level clamps the tangential correction at the same place. The inertia term of
@@ -46,7 +46,7 @@ class RowBuilder {
   RowBuilder(const Lattice<Dim>& lattice, const std::vector<CellType>& cells, double mu,
              BoundaryStress<Dim> sigma, double inertia = 0.0,
              const std::vector<double>* cell_weight = nullptr, double dirichlet_zero_depth = 0.0,
-             const std::vector<std::uint8_t>* aligned_dirichlet_faces = nullptr);
+             const std::vector<std::uint8_t>* dirichlet_wall_layers = nullptr);
   ExplicitRow momentum(int axis, std::ptrdiff_t k) const;
   ExplicitRow pressure(std::ptrdiff_t k) const;
 
@@ -68,7 +68,7 @@ class RowBuilder {
   double m_inertia;
   const std::vector<double>* m_cell_weight;
   double m_dirichlet_zero_depth;
-  const std::vector<std::uint8_t>* m_aligned_dirichlet_faces;
+  const std::vector<std::uint8_t>* m_dirichlet_wall_layers;
 };
 
 }  // namespace mgelastic::grid

@@ -589,7 +589,7 @@ std::vector<ByteShare> Level<Dim, Scalar>::byte_breakdown() const {
       {"fields x b r", fields},
       {"kind", kinds},
       {"relaxation", relaxations},
-      {"cells, aligned faces", sum(cells, aligned_dirichlet_faces)},
+      {"cells, Dirichlet wall layers", sum(cells, dirichlet_wall_layers)},
       {"cell weights", vector_bytes(cell_weight)},
       {"band_u CSR start/value/constant", csr_values(band_u)},
       {"band_u global target", global_indices(band_u)},
@@ -639,10 +639,10 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
                                const std::vector<CellType>* coarse_cells, double inertia,
                                int band_layers, std::vector<double> cell_weight,
                                double dirichlet_zero_depth,
-                               std::vector<std::uint8_t> aligned_dirichlet_faces) {
+                               std::vector<std::uint8_t> dirichlet_wall_layers) {
   Level<Dim, Scalar> level;
   level.dirichlet_zero_depth = dirichlet_zero_depth;
-  level.aligned_dirichlet_faces = std::move(aligned_dirichlet_faces);
+  level.dirichlet_wall_layers = std::move(dirichlet_wall_layers);
   level.cell_weight = std::move(cell_weight);
   level.lattice = lattice;
   level.cells = std::move(cells);
@@ -667,7 +667,7 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
   classify_relaxation(level, coarse_cells, pre, post, band_layers);
   const RowBuilder<Dim> builder(level.lattice, level.cells, material.mu(), sigma, inertia,
                                 level.cell_weight.empty() ? nullptr : &level.cell_weight,
-                                level.dirichlet_zero_depth, &level.aligned_dirichlet_faces);
+                                level.dirichlet_zero_depth, &level.dirichlet_wall_layers);
   build_band_rows(level, builder, pre, post);
   build_band_blocks(level);
   build_band_kernel(level);

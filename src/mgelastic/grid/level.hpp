@@ -111,9 +111,9 @@ struct Level {
   // Dirichlet variables sit (h_finest / 2); 0 on the finest level (explicit_rows.hpp).
   double dirichlet_zero_depth = 0.0;
   // Per cell and face (2 Dim k + 2 a + side): where a Dirichlet cell's face meets the finest
-  // level's Dirichlet wall, 1 + the finest layers between them (finest_aligned_dirichlet_faces,
+  // level's Dirichlet wall, 1 + the finest layers between them (finest_dirichlet_wall_layers,
   // coarsening.hpp), else 0; only these faces clamp at the finest depth.
-  std::vector<std::uint8_t> aligned_dirichlet_faces;
+  std::vector<std::uint8_t> dirichlet_wall_layers;
   std::array<std::vector<Scalar>, Dim + 1> x, b, r;
   std::array<std::vector<VarKind>, Dim + 1> kind;
   std::array<std::vector<Relaxation>, Dim + 1> relaxation;
@@ -197,7 +197,7 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
                                const std::vector<CellType>* coarse_cells, double inertia = 0.0,
                                int band_layers = 0, std::vector<double> cell_weight = {},
                                double dirichlet_zero_depth = 0.0,
-                               std::vector<std::uint8_t> aligned_dirichlet_faces = {});
+                               std::vector<std::uint8_t> dirichlet_wall_layers = {});
 
 // Writes prescribed displacements into every Dirichlet variable of the level.
 template <int Dim, typename Scalar>

@@ -23,7 +23,7 @@ RowBuilder<Dim> row_builder(const Level<Dim, Scalar>& level, const BoundaryStres
   return RowBuilder<Dim>(level.lattice, level.cells, static_cast<double>(level.mu), sigma,
                          static_cast<double>(level.inertia),
                          level.cell_weight.empty() ? nullptr : &level.cell_weight,
-                         level.dirichlet_zero_depth, &level.aligned_dirichlet_faces);
+                         level.dirichlet_zero_depth, &level.dirichlet_wall_layers);
 }
 
 // Band momentum rows: by their targets in the compact kernel (the CSR form may be dropped,

@@ -230,10 +230,9 @@ void Multigrid<Dim, Scalar>::build_levels(const ElasticityProblem<Dim>& problem,
         finest ? problem.boundary_stress : BoundaryStress<Dim>{},
         coarsest ? nullptr : &cells[l + 1], problem.inertia, m_options.band_layers, weights[l],
         clamp ? 0.5 * problem.lattice.h : 0.0,
-        clamp
-            ? finest_aligned_dirichlet_faces(problem.lattice, problem.cells, lattices[l], cells[l],
+        clamp ? finest_dirichlet_wall_layers(problem.lattice, problem.cells, lattices[l], cells[l],
                                              1 << l, m_options.misaligned_dirichlet_depth)
-            : std::vector<std::uint8_t>{}));
+              : std::vector<std::uint8_t>{}));
   }
 }
 

@@ -50,7 +50,7 @@ struct MultigridOptions {
   bool consistent_dirichlet_depth = true;
   // With consistent_dirichlet_depth: also where a clamp top lies between a coarse level's faces
   // (inside its Dirichlet cells), clamp at the finest wall, up to 2^l - 1 finest cells deeper
-  // than the coarse wall (finest_aligned_dirichlet_faces). false = only coarse walls that are
+  // than the coarse wall (finest_dirichlet_wall_layers). false = only coarse walls that are
   // finest walls. Embedded V(1,1) at 128 cells: armadillo 0.584 -> 0.532, bunny 0.642 -> 0.658
   // (docs/notes/2026-12-04-coarse-clamp.md).
   bool misaligned_dirichlet_depth = true;

@@ -35,7 +35,7 @@ NonAugmentedSystem<Dim> assemble_nonaugmented(const Level<Dim, Scalar>& level,
   const double mu = level.mu, lambda = level.lambda;
   const RowBuilder<Dim> builder(level.lattice, level.cells, mu, sigma, level.inertia,
                                 level.cell_weight.empty() ? nullptr : &level.cell_weight,
-                                level.dirichlet_zero_depth, &level.aligned_dirichlet_faces);
+                                level.dirichlet_zero_depth, &level.dirichlet_wall_layers);
   const auto n = level.size();
   Triplets a, g;
   system.u_constant.setZero(nu);

@@ -252,17 +252,17 @@ Sample coarse_sample(const Level<Dim, Scalar>& coarse, int field, const IVec<Dim
 // Where the zero of a clamped correction lies behind the coarse u_field variable at s (a
 // Dirichlet sample beyond the interpolated point along `axis`, above it when `above`), in coarse
 // cells past the coarse wall: the finest level's depth when the sample sits behind the finest
-// Dirichlet wall (finest_aligned_dirichlet_faces), else 0 (the wall itself).
+// Dirichlet wall (finest_dirichlet_wall_layers), else 0 (the wall itself).
 template <int Dim, typename Scalar>
 double finest_wall_depth(const Level<Dim, Scalar>& coarse, int field, const IVec<Dim>& s, int axis,
                          bool above) {
-  if (coarse.aligned_dirichlet_faces.empty()) return 0.0;
+  if (coarse.dirichlet_wall_layers.empty()) return 0.0;
   const std::ptrdiff_t k = coarse.lattice.index(s);
   const int face = 2 * axis + (above ? 0 : 1);
   int layers = 1;
   for (const std::ptrdiff_t cell : {k, k - coarse.lattice.stride(field)}) {
     if (coarse.cells[cell] != CellType::DIRICHLET) return 0.0;
-    const int wall = coarse.aligned_dirichlet_faces[cell * 2 * Dim + face];
+    const int wall = coarse.dirichlet_wall_layers[cell * 2 * Dim + face];
     if (wall == 0) return 0.0;
     layers += wall - 1;
   }
