@@ -80,6 +80,7 @@ grid::MultigridOptions multigrid_options(const BoxBenchOptions& o) {
   }
   if (o.band_layers >= 0) options.band_layers = o.band_layers;
   if (o.relocation_sweeps >= 0) options.relocation_sweeps = o.relocation_sweeps;
+  options.band_sweep_order = grid::band_sweep_order(o.smoother_order);
   options.max_levels = o.max_levels;
   if (o.coarsest_min_cells >= 0) options.coarsest_min_cells = o.coarsest_min_cells;
   if (o.coarsest_max_boundary_fraction >= 0)
@@ -809,6 +810,11 @@ void register_bench_commands(CLI::App& app) {
                      "Extra cell layers in the band (default: 1 for --mesh, 0 for the box)");
   vcycle->add_option("--relocation-sweeps", profile_options.relocation_sweeps,
                      "Fig. 8 band sweeps before restriction / after prolongation (default 2)");
+  vcycle
+      ->add_option("--smoother-order", profile_options.smoother_order,
+                   "Band sweeps: block_local (each block's sweeps while in cache; auto = this "
+                   "in 3D) or band_wide (sweep after sweep over the whole band, the paper's)")
+      ->check(CLI::IsMember({"auto", "block_local", "band_wide"}));
   vcycle->add_option("--max-levels", profile_options.max_levels, "Levels at most (0 = no limit)");
   vcycle->add_option("--coarsest-min-cells", profile_options.coarsest_min_cells,
                      "Cells along the longest axis a coarse level keeps at least (default 16)");

@@ -28,6 +28,7 @@ struct BoxBenchOptions {
   // band_layers: 1 for --mesh, the scenes' default, and 0 for the box).
   int band_layers = -1;
   int relocation_sweeps = -1;
+  std::string smoother_order = "auto";  // "block_local", "band_wide" (grid::BandSweepOrder)
   int max_levels = 0;
   int coarsest_min_cells = -1;
   double coarsest_max_boundary_fraction = -1;

@@ -116,4 +116,23 @@ ElasticityProblem<Dim> irregular_problem(int n, unsigned seed, const Material& m
   return problem;
 }
 
+// A ball (radius 0.45 of the unit box, n cells per axis) whose bottom cap (z < 0.2) is clamped,
+// under gravity: an embedded body whose band has rows of every shape and no mechanisms.
+inline ElasticityProblem<3> clamped_ball(int n) {
+  ElasticityProblem<3> problem;
+  problem.lattice = Lattice<3>(IVec<3>::Constant(n), 1.0 / n);
+  problem.material = {1e5, 0.48};
+  problem.cells.assign(problem.lattice.size(), CellType::EXTERIOR);
+  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(problem.lattice.size()); ++k) {
+    const IVec<3> s = problem.lattice.coords(k);
+    if (!problem.lattice.is_real(s)) continue;
+    const Vec<3> center = problem.lattice.cell_center(k);
+    if ((center - Vec<3>::Constant(0.5)).norm() < 0.45) problem.cells[k] = CellType::INTERIOR;
+    if (center[2] < 0.2 && problem.cells[k] == CellType::INTERIOR)
+      problem.cells[k] = CellType::DIRICHLET;
+  }
+  problem.body_force = [](const Vec<3>&) { return Vec<3>(0, 0, -1e4); };
+  return problem;
+}
+
 }  // namespace mgelastic::grid::test

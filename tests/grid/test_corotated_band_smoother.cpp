@@ -27,7 +27,7 @@ TEST(CorotatedBandSmoother, EqualsTheLinearBandSmootherAtIdentityRotations) {
       const std::vector<Matrix<3>> identity(linear.size(), Matrix<3>::Identity());
       const CorotatedRows rows = build_corotated_rows(corotated, identity, {}, false);
       const CorotatedBandSmoother<3> smoother(corotated, rows);
-      band_gauss_seidel(linear, 3);
+      band_gauss_seidel(linear, 3, BandSweepOrder::BAND_WIDE);  // the co-rotated sweeps' order
       smoother.sweep(corotated, rows, 3);
       const auto [worst, largest] = test::max_difference(linear, corotated);
       std::printf(

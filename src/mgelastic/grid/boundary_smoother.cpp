@@ -1,5 +1,7 @@
 #include "mgelastic/grid/boundary_smoother.hpp"
 
+#include "mgelastic/core/error.hpp"
+
 namespace mgelastic::grid {
 namespace {
 
@@ -83,33 +85,41 @@ struct BandSweep {
   }
 };
 
-// One sweep over a run schedule (band_runs.hpp): per color, the blocks in parallel, each
-// block's items in order.
-template <int Dim, typename Scalar>
-void relax_items(const Level<Dim, Scalar>& level, const BandSweep<Dim, Scalar>& band,
-                 const typename BandRuns<Dim, Scalar>::Schedule& schedule) {
-  const BandRuns<Dim, Scalar>& runs = level.band_runs;
-  for (const auto& color : schedule) {
-    const auto count = static_cast<std::ptrdiff_t>(color.size());
+// `sweeps` sweeps over a colored schedule in `order` (boundary_smoother.hpp): relax(block)
+// relaxes one block's rows once; the blocks of one color run in parallel.
+template <typename Schedule, typename Relax>
+void sweep_colored(const Schedule& schedule, int sweeps, BandSweepOrder order, Relax&& relax) {
+  const bool local = order == BandSweepOrder::BLOCK_LOCAL;  // AUTOMATIC is resolved by the caller
+  for (int sweep = 0; sweep < (local ? 1 : sweeps); ++sweep) {
+    for (const auto& color : schedule) {
+      const auto count = static_cast<std::ptrdiff_t>(color.size());
 #pragma omp parallel for schedule(dynamic, 1)
-    for (std::ptrdiff_t b = 0; b < count; ++b) {
-      for (const std::uint32_t item : color[b]) {
-        const std::uint32_t index = item & kBandItemIndexMask;
-        switch (static_cast<BandItem>(item & ~kBandItemIndexMask)) {
-          case BandItem::RUN: {
-            const BandRun& run = runs.runs[index];
-            relax_band_run<Dim, Scalar>(band.x, band.kernel, runs.shapes[run.shape], run,
-                                        runs.rows.data());
-            break;
-          }
-          case BandItem::CELL_BLOCK:
-            band.relax_block(level.band_blocks[index], index);
-            break;
-          case BandItem::POINT_ROW:
-            band.relax_row(index);
-            break;
-        }
+      for (std::ptrdiff_t b = 0; b < count; ++b)
+        for (int pass = 0; pass < (local ? sweeps : 1); ++pass) relax(color[b]);
+    }
+  }
+}
+
+// One block's items of a run schedule (band_runs.hpp), in order.
+template <int Dim, typename Scalar>
+void relax_block_items(const Level<Dim, Scalar>& level, const BandSweep<Dim, Scalar>& band,
+                       const std::vector<std::uint32_t>& items) {
+  const BandRuns<Dim, Scalar>& runs = level.band_runs;
+  for (const std::uint32_t item : items) {
+    const std::uint32_t index = item & kBandItemIndexMask;
+    switch (static_cast<BandItem>(item & ~kBandItemIndexMask)) {
+      case BandItem::RUN: {
+        const BandRun& run = runs.runs[index];
+        relax_band_run<Dim, Scalar>(band.x, band.kernel, runs.shapes[run.shape], run,
+                                    runs.rows.data());
+        break;
       }
+      case BandItem::CELL_BLOCK:
+        band.relax_block(level.band_blocks[index], index);
+        break;
+      case BandItem::POINT_ROW:
+        band.relax_row(index);
+        break;
     }
   }
 }
@@ -129,6 +139,14 @@ void refresh_band_rhs(Level<Dim, Scalar>& level, const std::vector<std::uint32_t
 
 }  // namespace
 
+BandSweepOrder band_sweep_order(const std::string& name) {
+  if (name == "auto") return BandSweepOrder::AUTOMATIC;
+  if (name == "block_local") return BandSweepOrder::BLOCK_LOCAL;
+  if (name == "band_wide") return BandSweepOrder::BAND_WIDE;
+  throw Error("unknown band sweep order '" + name + "' (auto, block_local or band_wide)",
+              {.pointer = "solver/smoother_order"});
+}
+
 template <int Dim, typename Scalar>
 void update_band_pressures(Level<Dim, Scalar>& level) {
   const auto& rows = level.band_p;
@@ -142,53 +160,43 @@ void update_band_pressures(Level<Dim, Scalar>& level) {
 
 template <int Dim, typename Scalar>
 void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps,
-                       const std::vector<std::uint32_t>* subset) {
+                       const std::vector<std::uint32_t>* subset, BandSweepOrder order) {
   update_band_pressures(level);
   refresh_band_kernel(level);
   refresh_band_rhs(level, subset);
   const BandSweep<Dim, Scalar> band(level);
   const BandRuns<Dim, Scalar>& runs = level.band_runs;
-  for (int sweep = 0; sweep < sweeps; ++sweep) {
-    if (subset) {
+  if (subset) {
+    for (int sweep = 0; sweep < sweeps; ++sweep)
       for (std::uint32_t m : *subset) band.relax_row(m);
-    } else if (runs.valid_for(level.band_kernel.rows())) {
-      relax_items(level, band, runs.schedule);
-    } else {
-      // Colored blocks: the blocks of one color touch disjoint variables.
-      for (const auto& color : level.band_schedule) {
-        const auto count = static_cast<std::ptrdiff_t>(color.size());
-#pragma omp parallel for schedule(dynamic, 1)
-        for (std::ptrdiff_t b = 0; b < count; ++b) {
-          for (std::uint32_t e : color[b].cell_blocks) band.relax_block(level.band_blocks[e], e);
-          for (std::uint32_t m : color[b].point_rows) band.relax_row(m);
-        }
-      }
-    }
+  } else if (runs.valid_for(level.band_kernel.rows())) {
+    sweep_colored(runs.schedule, sweeps, order, [&](const std::vector<std::uint32_t>& items) {
+      relax_block_items(level, band, items);
+    });
+  } else {
+    sweep_colored(level.band_schedule, sweeps, order,
+                  [&](const typename Level<Dim, Scalar>::BandWork& work) {
+                    for (std::uint32_t e : work.cell_blocks)
+                      band.relax_block(level.band_blocks[e], e);
+                    for (std::uint32_t m : work.point_rows) band.relax_row(m);
+                  });
   }
 }
 
 template <int Dim, typename Scalar>
 void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps,
-                       const typename Level<Dim, Scalar>::RowSchedule& schedule) {
+                       const typename Level<Dim, Scalar>::RowSchedule& schedule,
+                       BandSweepOrder order) {
   update_band_pressures(level);
   refresh_band_kernel(level);
   const BandSweep<Dim, Scalar> band(level);
-  // Rows of one color's blocks touch disjoint variables (block_partition.hpp).
-  auto for_each_block = [&](auto&& relax_rows) {
-    for (const auto& color : schedule) {
-      const auto count = static_cast<std::ptrdiff_t>(color.size());
-#pragma omp parallel for schedule(dynamic, 1)
-      for (std::ptrdiff_t b = 0; b < count; ++b) relax_rows(color[b]);
-    }
-  };
   auto& rhs = level.band_kernel.rhs;
-  for_each_block([&](const std::vector<std::uint32_t>& rows) {
+  sweep_colored(schedule, 1, order, [&](const std::vector<std::uint32_t>& rows) {
     for (std::uint32_t m : rows) rhs[m] = band_rhs(level, m);
   });
-  for (int sweep = 0; sweep < sweeps; ++sweep)
-    for_each_block([&](const std::vector<std::uint32_t>& rows) {
-      for (std::uint32_t m : rows) band.relax_row(m);
-    });
+  sweep_colored(schedule, sweeps, order, [&](const std::vector<std::uint32_t>& rows) {
+    for (std::uint32_t m : rows) band.relax_row(m);
+  });
 }
 
 template <int Dim, typename Scalar>
@@ -217,11 +225,12 @@ void back_substitute_traction(Level<Dim, Scalar>& level) {
   }
 }
 
-#define MGELASTIC_INSTANTIATE(D, S)                                                            \
-  template void update_band_pressures<D, S>(Level<D, S>&);                                     \
-  template void band_gauss_seidel<D, S>(Level<D, S>&, int, const std::vector<std::uint32_t>*); \
-  template void band_gauss_seidel<D, S>(Level<D, S>&, int,                                     \
-                                        const typename Level<D, S>::RowSchedule&);             \
+#define MGELASTIC_INSTANTIATE(D, S)                                                                \
+  template void update_band_pressures<D, S>(Level<D, S>&);                                         \
+  template void band_gauss_seidel<D, S>(Level<D, S>&, int, const std::vector<std::uint32_t>*,      \
+                                        BandSweepOrder);                                           \
+  template void band_gauss_seidel<D, S>(Level<D, S>&, int,                                         \
+                                        const typename Level<D, S>::RowSchedule&, BandSweepOrder); \
   template void back_substitute_traction<D, S>(Level<D, S>&);
 MGELASTIC_INSTANTIATE(2, float)
 MGELASTIC_INSTANTIATE(2, double)

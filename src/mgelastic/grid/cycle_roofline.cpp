@@ -139,14 +139,19 @@ PhaseSeconds cycle_bytes(const Multigrid<Dim, Scalar>& mg) {
   std::vector<double> visits(mg.levels(), 1.0);
   for (int l = 0; l < coarsest; ++l)
     visits[l + 1] = visits[l] * (options.cycle == CycleType::W && l + 1 < coarsest ? 2.0 : 1.0);
+  // Block-local band sweeps stream a call's rows once; its later sweeps read them from cache.
+  const bool local = resolved<Dim>(options.band_sweep_order) == BandSweepOrder::BLOCK_LOCAL;
+  const int smoothing_sweeps = local ? 1 : mg.boundary_sweeps();
+  const int relocation_sweeps =
+      local ? std::min(1, options.relocation_sweeps) : options.relocation_sweeps;
   for (int l = 0; l < coarsest; ++l) {
     const Level<Dim, Scalar>& level = mg.level(l);
     const Level<Dim, Scalar>& next = mg.level(l + 1);
     const double v = visits[l];
     bytes.boundary_smoothing +=
-        v * (2 * smoothing_band_bytes(level, mg.boundary_sweeps()) +
-             band_call_bytes(level, options.relocation_sweeps, &level.pre_restriction_rows) +
-             band_call_bytes(level, options.relocation_sweeps, &level.post_prolongation_rows));
+        v * (2 * smoothing_band_bytes(level, smoothing_sweeps) +
+             band_call_bytes(level, relocation_sweeps, &level.pre_restriction_rows) +
+             band_call_bytes(level, relocation_sweeps, &level.post_prolongation_rows));
     bytes.interior_smoothing += v * 2 * distributive_sweep_bytes(level);
     bytes.residual += v * residual_bytes(level);
     bytes.restriction += v * restriction_bytes(level, next);

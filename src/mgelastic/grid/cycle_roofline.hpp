@@ -17,7 +17,8 @@
 //                       5, start 4, inverse and constant and b 3S, entries 5 + S each, p write S),
 //                       the right-hand side refresh (band_u rows: index 5, constant and b read,
 //                       rhs write: 3S), per sweep per row: pattern, target, field (9), rhs S,
-//                       own variable read + write 2S, each eliminated pressure read + write 2S;
+//                       own variable read + write 2S, each eliminated pressure read + write 2S
+//                       (block-local order: the first sweep only, the later ones hit cache);
 //                       two full calls per smoothing plus the traction back-substitution (rule
 //                       records and 4 S per rule); the two Fig. 8 relocation calls per level visit
 //                       over their row subsets (the pressure update is still the full band_p)

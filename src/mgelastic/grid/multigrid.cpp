@@ -137,11 +137,12 @@ void add_correction(const Level<Dim, Scalar>& fine, Level<Dim, double>& solution
 template <int Dim, typename Scalar>
 void relocation_sweeps(Level<Dim, Scalar>& level, int sweeps,
                        const std::vector<std::uint32_t>& rows,
-                       const typename Level<Dim, Scalar>::RowSchedule& schedule) {
+                       const typename Level<Dim, Scalar>::RowSchedule& schedule,
+                       BandSweepOrder order) {
   if (rows.size() == level.band_kernel.rows())
-    band_gauss_seidel(level, sweeps);
+    band_gauss_seidel(level, sweeps, order);
   else
-    band_gauss_seidel(level, sweeps, schedule);
+    band_gauss_seidel(level, sweeps, schedule, order);
 }
 
 }  // namespace
@@ -291,7 +292,7 @@ void Multigrid<Dim, Scalar>::smooth(int l, bool pre) {
   // Sec. 5.2: a boundary pass, the interior distributive pass, a last boundary pass; then the
   // traction variables are back-substituted so every boundary condition holds exactly.
   Timer timer;
-  band_gauss_seidel(level, m_boundary_sweeps);
+  band_gauss_seidel(level, m_boundary_sweeps, resolved<Dim>(m_options.band_sweep_order));
   m_phases.boundary_smoothing += timer.seconds();
   observe(l, pre ? CyclePhase::PRE_SMOOTHING_BOUNDARY : CyclePhase::POST_SMOOTHING_BOUNDARY);
   timer.restart();
@@ -299,7 +300,7 @@ void Multigrid<Dim, Scalar>::smooth(int l, bool pre) {
   m_phases.interior_smoothing += timer.seconds();
   observe(l, pre ? CyclePhase::PRE_SMOOTHING_INTERIOR : CyclePhase::POST_SMOOTHING_INTERIOR);
   timer.restart();
-  band_gauss_seidel(level, m_boundary_sweeps);
+  band_gauss_seidel(level, m_boundary_sweeps, resolved<Dim>(m_options.band_sweep_order));
   back_substitute_traction(level);
   m_phases.boundary_smoothing += timer.seconds();
   observe(l, pre ? CyclePhase::PRE_SMOOTHING_BOUNDARY_AFTER
@@ -378,7 +379,8 @@ void Multigrid<Dim, Scalar>::correct(int l) {
   smooth(l, true);
   timer.restart();
   relocation_sweeps(m_levels[l], m_options.relocation_sweeps, m_levels[l].pre_restriction_rows,
-                    m_levels[l].pre_restriction_schedule);
+                    m_levels[l].pre_restriction_schedule,
+                    resolved<Dim>(m_options.band_sweep_order));
   m_phases.boundary_smoothing += timer.seconds();
   observe(l, CyclePhase::RELOCATION_BEFORE_RESTRICTION);
   timer.restart();
@@ -396,7 +398,8 @@ void Multigrid<Dim, Scalar>::correct(int l) {
   observe(l, CyclePhase::PROLONGATION);
   timer.restart();
   relocation_sweeps(m_levels[l], m_options.relocation_sweeps, m_levels[l].post_prolongation_rows,
-                    m_levels[l].post_prolongation_schedule);
+                    m_levels[l].post_prolongation_schedule,
+                    resolved<Dim>(m_options.band_sweep_order));
   m_phases.boundary_smoothing += timer.seconds();
   observe(l, CyclePhase::RELOCATION_AFTER_PROLONGATION);
   smooth(l, false);

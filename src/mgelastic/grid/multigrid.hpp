@@ -9,6 +9,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "mgelastic/grid/boundary_smoother.hpp"
 #include "mgelastic/grid/coarse_solver.hpp"
 #include "mgelastic/grid/level.hpp"
 #include "mgelastic/grid/problem.hpp"
@@ -27,6 +28,11 @@ struct MultigridOptions {
   // Extra band sweeps over relocated-boundary equations before restriction / after
   // prolongation (Sec. 6, Fig. 8).
   int relocation_sweeps = 2;
+  // Order of each pass's band sweeps (boundary_smoother.hpp): BLOCK_LOCAL, each colored block
+  // takes all sweeps of a pass while in cache (128^3 box: boundary smoothing about halved, rate
+  // 0.2216 -> 0.2213); BAND_WIDE, sweep after sweep over the whole band (the paper's order);
+  // AUTOMATIC: BLOCK_LOCAL in 3D, BAND_WIDE in 2D.
+  BandSweepOrder band_sweep_order = BandSweepOrder::AUTOMATIC;
   // Coarsen while a level has more interior unknowns than this, the next level keeps at least
   // `coarsest_min_cells` cells along its longest axis and at most
   // `coarsest_max_boundary_fraction` of its body cells have an exterior face neighbor; the

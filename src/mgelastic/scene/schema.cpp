@@ -186,6 +186,12 @@ Field build_schema() {
               "distributive (Sec. 7: distributive interior, Gauss-Seidel on the band's Schur "
               "complement)",
               "box", {"box", "distributive"}),
+       choice("smoother_order",
+              "Order of the boundary band's Gauss-Seidel sweeps: block_local (each colored "
+              "block takes all sweeps of a pass while its rows are in cache; about half the "
+              "band's time at 128^3, same rates), band_wide (sweep after sweep over the whole "
+              "band, the paper's order) or auto (block_local in 3D, band_wide in 2D)",
+              "auto", {"auto", "block_local", "band_wide"}),
        integer("band_layers",
                "Extra cell layers of the boundary band (0 = the paper's narrow band; 1 speeds up "
                "embedded bodies whose constraints cut them at shallow angles)",
