@@ -188,7 +188,7 @@ Field build_schema() {
               "box", {"box", "distributive"}),
        choice("smoother_order",
               "Order of the boundary band's Gauss-Seidel sweeps: block_local (each colored "
-              "block takes all sweeps of a pass while its rows are in cache; about half the "
+              "block takes all sweeps of a pass while its rows are in cache; a quarter less of the "
               "band's time at 128^3, same rates), band_wide (sweep after sweep over the whole "
               "band, the paper's order) or auto (block_local in 3D, band_wide in 2D)",
               "auto", {"auto", "block_local", "band_wide"}),
