@@ -52,14 +52,12 @@ double rate_with_order(const ElasticityProblem<3>& problem, BandSweepOrder order
 }
 
 TEST(MultigridSolve, BlockLocalBandOrderKeepsTheRate) {
-  std::vector<std::pair<std::string, ElasticityProblem<3>>> cases;
-  for (const double poisson : {0.495}) {
-    BoxSpec spec;
-    spec.cells = 32;
-    spec.poisson_ratio = poisson;
-    cases.emplace_back("box nu " + std::to_string(poisson), make_box_problem<3>(spec));
-  }
-  cases.emplace_back("clamped ball 32^3", test::clamped_ball(32));
+  BoxSpec spec;
+  spec.cells = 32;
+  spec.poisson_ratio = 0.495;
+  const std::vector<std::pair<std::string, ElasticityProblem<3>>> cases = {
+      {"box 32^3 nu 0.495", make_box_problem<3>(spec)},
+      {"clamped ball 32^3", test::clamped_ball(32)}};
   for (const auto& [name, problem] : cases) {
     const double local = rate_with_order(problem, BandSweepOrder::BLOCK_LOCAL);
     const double wide = rate_with_order(problem, BandSweepOrder::BAND_WIDE);

@@ -140,7 +140,7 @@ PhaseSeconds cycle_bytes(const Multigrid<Dim, Scalar>& mg) {
   for (int l = 0; l < coarsest; ++l)
     visits[l + 1] = visits[l] * (options.cycle == CycleType::W && l + 1 < coarsest ? 2.0 : 1.0);
   // Block-local band sweeps stream a call's rows once; its later sweeps read them from cache.
-  const bool local = resolved<Dim>(options.band_sweep_order) == BandSweepOrder::BLOCK_LOCAL;
+  const bool local = options.band_sweep_order == BandSweepOrder::BLOCK_LOCAL;
   const int smoothing_sweeps = local ? 1 : mg.boundary_sweeps();
   const int relocation_sweeps =
       local ? std::min(1, options.relocation_sweeps) : options.relocation_sweeps;

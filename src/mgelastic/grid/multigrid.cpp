@@ -157,6 +157,7 @@ template <int Dim, typename Scalar>
 Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, MultigridOptions options)
     : m_options(options) {
   validate(problem);
+  m_options.band_sweep_order = resolved<Dim>(options.band_sweep_order);  // options() reports it
   m_boundary_sweeps = options.boundary_sweeps > 0
                           ? options.boundary_sweeps
                           : default_boundary_sweeps(problem.material.poisson_ratio);
@@ -292,7 +293,7 @@ void Multigrid<Dim, Scalar>::smooth(int l, bool pre) {
   // Sec. 5.2: a boundary pass, the interior distributive pass, a last boundary pass; then the
   // traction variables are back-substituted so every boundary condition holds exactly.
   Timer timer;
-  band_gauss_seidel(level, m_boundary_sweeps, resolved<Dim>(m_options.band_sweep_order));
+  band_gauss_seidel(level, m_boundary_sweeps, m_options.band_sweep_order);
   m_phases.boundary_smoothing += timer.seconds();
   observe(l, pre ? CyclePhase::PRE_SMOOTHING_BOUNDARY : CyclePhase::POST_SMOOTHING_BOUNDARY);
   timer.restart();
@@ -300,7 +301,7 @@ void Multigrid<Dim, Scalar>::smooth(int l, bool pre) {
   m_phases.interior_smoothing += timer.seconds();
   observe(l, pre ? CyclePhase::PRE_SMOOTHING_INTERIOR : CyclePhase::POST_SMOOTHING_INTERIOR);
   timer.restart();
-  band_gauss_seidel(level, m_boundary_sweeps, resolved<Dim>(m_options.band_sweep_order));
+  band_gauss_seidel(level, m_boundary_sweeps, m_options.band_sweep_order);
   back_substitute_traction(level);
   m_phases.boundary_smoothing += timer.seconds();
   observe(l, pre ? CyclePhase::PRE_SMOOTHING_BOUNDARY_AFTER
@@ -379,8 +380,7 @@ void Multigrid<Dim, Scalar>::correct(int l) {
   smooth(l, true);
   timer.restart();
   relocation_sweeps(m_levels[l], m_options.relocation_sweeps, m_levels[l].pre_restriction_rows,
-                    m_levels[l].pre_restriction_schedule,
-                    resolved<Dim>(m_options.band_sweep_order));
+                    m_levels[l].pre_restriction_schedule, m_options.band_sweep_order);
   m_phases.boundary_smoothing += timer.seconds();
   observe(l, CyclePhase::RELOCATION_BEFORE_RESTRICTION);
   timer.restart();
@@ -398,8 +398,7 @@ void Multigrid<Dim, Scalar>::correct(int l) {
   observe(l, CyclePhase::PROLONGATION);
   timer.restart();
   relocation_sweeps(m_levels[l], m_options.relocation_sweeps, m_levels[l].post_prolongation_rows,
-                    m_levels[l].post_prolongation_schedule,
-                    resolved<Dim>(m_options.band_sweep_order));
+                    m_levels[l].post_prolongation_schedule, m_options.band_sweep_order);
   m_phases.boundary_smoothing += timer.seconds();
   observe(l, CyclePhase::RELOCATION_AFTER_PROLONGATION);
   smooth(l, false);

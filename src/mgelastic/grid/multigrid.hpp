@@ -30,8 +30,9 @@ struct MultigridOptions {
   int relocation_sweeps = 2;
   // Order of each pass's band sweeps (boundary_smoother.hpp): BLOCK_LOCAL, each colored block
   // takes all sweeps of a pass while in cache (128^3 box: boundary smoothing -24 %, rate
-  // 0.2216 -> 0.2213); BAND_WIDE, sweep after sweep over the whole band (the paper's order);
-  // AUTOMATIC: BLOCK_LOCAL in 3D, BAND_WIDE in 2D.
+  // 0.2596 -> 0.2594); BAND_WIDE, sweep after sweep over the whole band (the paper's order);
+  // AUTOMATIC: BLOCK_LOCAL in 3D, BAND_WIDE in 2D (Multigrid resolves it: options() never
+  // reports AUTOMATIC).
   BandSweepOrder band_sweep_order = BandSweepOrder::AUTOMATIC;
   // Coarsen while a level has more interior unknowns than this, the next level keeps at least
   // `coarsest_min_cells` cells along its longest axis and at most
