@@ -4,6 +4,7 @@
 #include <numbers>
 #include <random>
 
+#include "geometry/surface_mesh_test_support.hpp"
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/geometry/csg.hpp"
 #include "mgelastic/geometry/primitives.hpp"
@@ -11,10 +12,7 @@
 namespace mgelastic::geometry {
 namespace {
 
-Point random_point(std::mt19937& rng, double extent) {
-  std::uniform_real_distribution<double> u(-extent, extent);
-  return Point(u(rng), u(rng), u(rng));
-}
+using test::random_point;
 
 // contains() agrees with the analytic definitions on random points.
 TEST(Primitives, ContainsMatchesAnalyticDefinitions) {

@@ -29,8 +29,8 @@ class CorotatedDynamics : public ::testing::Test {
   int m_saved = thread_count();
 };
 
-const Material kSoft{1e5, 0.3};
-constexpr double kDensity = 1000.0;
+const Material kSwingMaterial{1e5, 0.3};
+constexpr double kSwingDensity = 1000.0;
 
 struct Swing {
   std::vector<double> energy, tip;
@@ -39,9 +39,9 @@ struct Swing {
 // A 16 x 4 x 4 cantilever (length 0.14 m free) swung by a 1 m/s tip velocity: the tip travels
 // about 0.05 m, a third of the free length.
 Swing swing(double damping, int steps, double dt) {
-  const ElasticityProblem<3> problem = bar(16, 4, 0.01, 2, kSoft);
-  CorotatedBackwardEuler<3> sim(problem, {.dt = dt, .density = kDensity, .damping = damping}, {},
-                                {.rotation_update_every = 1});
+  const ElasticityProblem<3> problem = bar(16, 4, 0.01, 2, kSwingMaterial);
+  CorotatedBackwardEuler<3> sim(problem, {.dt = dt, .density = kSwingDensity, .damping = damping},
+                                {}, {.rotation_update_every = 1});
   sim.set_velocity(bending_velocity(0.02, 0.14, 1.0));
   const auto& level = sim.multigrid().solution_level();
   const std::ptrdiff_t tip = level.lattice.index(IVec<3>(16, 3, 2));  // u_y face at the free end
@@ -93,13 +93,13 @@ std::pair<double, double> step_rates(double poisson, double dt, int steps, int e
                                      CorotatedOuter outer = CorotatedOuter::NEWTON_KRYLOV,
                                      double* seconds = nullptr, int recycled = 2) {
   ElasticityProblem<3> problem = bar(32, 8, 0.01, 2, {1e5, poisson});
-  problem.body_force = [](const Vec<3>&) { return Vec<3>(0, -9.81 * kDensity, 0); };
-  CorotatedBackwardEuler<3> sim(problem,
-                                {.dt = dt, .density = kDensity, .vcycles_per_step = cycles}, {},
-                                {.rotation_update_every = every,
-                                 .smoother = smoother,
-                                 .step_outer = outer,
-                                 .recycled_directions = recycled});
+  problem.body_force = [](const Vec<3>&) { return Vec<3>(0, -9.81 * kSwingDensity, 0); };
+  CorotatedBackwardEuler<3> sim(
+      problem, {.dt = dt, .density = kSwingDensity, .vcycles_per_step = cycles}, {},
+      {.rotation_update_every = every,
+       .smoother = smoother,
+       .step_outer = outer,
+       .recycled_directions = recycled});
   sim.set_velocity(bending_velocity(0.02, 0.3, 1.0));
   test::StepRates rates;
   double total = 0;
@@ -202,8 +202,8 @@ TEST_F(CorotatedDynamics, LargeStepAtNearIncompressibilityConverges) {
 }
 
 TEST_F(CorotatedDynamics, DivergedStepThrowsNamingTheTime) {
-  const ElasticityProblem<3> problem = bar(16, 4, 0.01, 2, kSoft);
-  CorotatedBackwardEuler<3> sim(problem, {.dt = 0.01, .density = kDensity});
+  const ElasticityProblem<3> problem = bar(16, 4, 0.01, 2, kSwingMaterial);
+  CorotatedBackwardEuler<3> sim(problem, {.dt = 0.01, .density = kSwingDensity});
   sim.step();
   const auto& level = sim.multigrid().solution_level();
   const std::ptrdiff_t k = level.lattice.index(IVec<3>(10, 2, 2));

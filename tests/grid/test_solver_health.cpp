@@ -20,7 +20,7 @@ MultigridOptions three_levels() {
   return options;
 }
 
-BoxSpec box() {
+BoxSpec box_64() {
   BoxSpec spec;
   spec.cells = 64;
   return spec;
@@ -43,7 +43,7 @@ void expect_contains(const std::string& message, const std::string& part) {
 }
 
 TEST(SolverHealth, HealthySolvesAreNotFlagged) {
-  Multigrid<2, double> mg(make_box_problem<2>(box()), three_levels());
+  Multigrid<2, double> mg(make_box_problem<2>(box_64()), three_levels());
   ASSERT_EQ(mg.levels(), 3);
   const SolveReport report = mg.solve(1e-8, 30);
   EXPECT_TRUE(report.converged);
@@ -62,7 +62,7 @@ TEST(SolverHealth, DivergenceReasonSeesNonFiniteAndGrowth) {
 // right where the restricted residual arrives, not on the finest level where it surfaces.
 TEST(SolverHealth, NanInACoarseLevelIsLocated) {
   for (bool accelerated : {false, true}) {
-    Multigrid<2, double> mg(make_box_problem<2>(box()), three_levels());
+    Multigrid<2, double> mg(make_box_problem<2>(box_64()), three_levels());
     mg.level(1).mu = std::numeric_limits<double>::quiet_NaN();
     const std::string message =
         failure([&] { accelerated ? mg.solve_accelerated(1e-8, 30) : mg.solve(1e-8, 30); });
@@ -78,7 +78,7 @@ TEST(SolverHealth, NanInACoarseLevelIsLocated) {
 // by the boundary band Gauss-Seidel) writes NaN into level 1's unknowns during its first
 // pre-smoothing, and the replay names exactly that phase.
 TEST(SolverHealth, NanProducedByTheBoundarySmootherIsNamed) {
-  Multigrid<2, double> mg(make_box_problem<2>(box()), three_levels());
+  Multigrid<2, double> mg(make_box_problem<2>(box_64()), three_levels());
   ASSERT_FALSE(mg.level(1).band_block_inverse.empty());
   mg.level(1).band_block_inverse[0] = std::numeric_limits<double>::quiet_NaN();
   const std::string message = failure([&] { mg.solve(1e-8, 30); });
@@ -92,7 +92,7 @@ TEST(SolverHealth, NanProducedByTheBoundarySmootherIsNamed) {
 // the residual grows every cycle, and the replay finds the prolongation into level 0 (where the
 // oversized correction lands) as the phase that grows the residual most.
 TEST(SolverHealth, ResidualGrowthIsTracedToItsPhase) {
-  Multigrid<2, double> mg(make_box_problem<2>(box()), three_levels());
+  Multigrid<2, double> mg(make_box_problem<2>(box_64()), three_levels());
   mg.level(1).mu *= 1e-3;
   mg.level(1).lambda *= 1e-3;
   const std::string message = failure([&] { mg.solve(1e-8, 50); });

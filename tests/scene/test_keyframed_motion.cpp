@@ -20,7 +20,7 @@ nlohmann::json keyframed_scene() {
                                     "rotate_axis": [1, 0, 0], "rotate_degrees": 90}]}]})");
 }
 
-std::string error_of(const nlohmann::json& document) {
+std::string keyframe_error_of(const nlohmann::json& document) {
   try {
     parse_scene(document, "scene.json", ".");
   } catch (const Error& e) {
@@ -60,23 +60,26 @@ TEST(KeyframedMotion, RigidAtEveryTime) {
 TEST(KeyframedMotion, NonIncreasingTimesAreRejectedWithPointer) {
   auto d = keyframed_scene();
   d["constraints"][0]["keyframes"][1]["time"] = 0;
-  EXPECT_NE(error_of(d).find("scene.json: /constraints/0/keyframes/1/time: keyframe times must "
-                             "increase strictly"),
-            std::string::npos)
-      << error_of(d);
+  EXPECT_NE(
+      keyframe_error_of(d).find("scene.json: /constraints/0/keyframes/1/time: keyframe times must "
+                                "increase strictly"),
+      std::string::npos)
+      << keyframe_error_of(d);
 }
 
 TEST(KeyframedMotion, KeyframedRegionWithoutKeysIsRejected) {
   auto d = keyframed_scene();
   d["constraints"][0]["keyframes"] = nlohmann::json::array();
-  EXPECT_NE(error_of(d).find("/constraints/0/keyframes: a keyframed region needs at least one"),
-            std::string::npos);
+  EXPECT_NE(
+      keyframe_error_of(d).find("/constraints/0/keyframes: a keyframed region needs at least one"),
+      std::string::npos);
 }
 
 TEST(KeyframedMotion, KeysOnAFixedRegionAreRejected) {
   auto d = keyframed_scene();
   d["constraints"][0]["motion"] = "fixed";
-  EXPECT_NE(error_of(d).find("/constraints/0/keyframes: keyframes need"), std::string::npos);
+  EXPECT_NE(keyframe_error_of(d).find("/constraints/0/keyframes: keyframes need"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -14,7 +14,7 @@ nlohmann::json minimal() {
   return nlohmann::json::parse(R"({"geometry": {"sphere": {"radius": 0.5}}})");
 }
 
-std::string error_of(const nlohmann::json& document) {
+std::string parse_error_of(const nlohmann::json& document) {
   try {
     parse_scene(document, "scene.json", ".");
   } catch (const Error& e) {
@@ -38,34 +38,36 @@ TEST(Scene, UnknownKeyIsNamedByPointer) {
   auto d = minimal();
   d["grid"] = {{"cellsize", 0.1}};
   EXPECT_EQ(
-      error_of(d),
+      parse_error_of(d),
       "scene.json: /grid/cellsize: unknown key (expected one of: cell_size, resolution, padding)");
 }
 
 TEST(Scene, WrongTypeIsNamedByPointer) {
   auto d = minimal();
   d["material"] = {{"youngs_modulus", "soft"}};
-  EXPECT_EQ(error_of(d), "scene.json: /material/youngs_modulus: expected a number, got string");
+  EXPECT_EQ(parse_error_of(d),
+            "scene.json: /material/youngs_modulus: expected a number, got string");
 }
 
 TEST(Scene, OutOfRangeValueIsNamedWithTheValue) {
   auto d = minimal();
   d["material"] = {{"poisson_ratio", 0.5}};
-  EXPECT_EQ(error_of(d), "scene.json: /material/poisson_ratio: must be < 0.5 (got 0.5)");
+  EXPECT_EQ(parse_error_of(d), "scene.json: /material/poisson_ratio: must be < 0.5 (got 0.5)");
 }
 
 TEST(Scene, MissingGeometryIsReported) {
-  EXPECT_EQ(error_of(nlohmann::json::object()), "scene.json: /geometry: missing required key");
+  EXPECT_EQ(parse_error_of(nlohmann::json::object()),
+            "scene.json: /geometry: missing required key");
 }
 
 TEST(Scene, ShapeErrorsPointIntoTheShapeTree) {
   auto d = minimal();
   d["constraints"] = nlohmann::json::parse(
       R"([{"region": {"union": [{"box": {"size": [1, 1, 1]}}, {"sphere": {"radius": -1}}]}}])");
-  EXPECT_EQ(error_of(d),
+  EXPECT_EQ(parse_error_of(d),
             "scene.json: /constraints/0/region/union/1/sphere/radius: must be > 0 (got -1)");
   d["geometry"] = nlohmann::json::parse(R"({"sphere": {"radius": 1}, "box": {"size": [1, 1, 1]}})");
-  EXPECT_NE(error_of(d).find("/geometry: a shape has exactly one of"), std::string::npos);
+  EXPECT_NE(parse_error_of(d).find("/geometry: a shape has exactly one of"), std::string::npos);
 }
 
 TEST(Scene, InvalidJsonNamesTheLine) {
@@ -113,7 +115,7 @@ TEST(Scene, SinglePrecisionLinearQuasistaticIsAccepted) {
 TEST(Scene, SinglePrecisionRefusesTheCorotatedModel) {
   auto d = single_precision();
   d["material"] = {{"model", "corotated"}};
-  const std::string error = error_of(d);
+  const std::string error = parse_error_of(d);
   EXPECT_EQ(error.rfind("scene.json: /solver/precision: ", 0), 0u) << error;
   EXPECT_NE(error.find("linear model only"), std::string::npos) << error;
 }
@@ -121,16 +123,16 @@ TEST(Scene, SinglePrecisionRefusesTheCorotatedModel) {
 TEST(Scene, SinglePrecisionRefusesDynamics) {
   auto d = single_precision();
   d["time"] = {{"quasistatic", false}};
-  const std::string error = error_of(d);
+  const std::string error = parse_error_of(d);
   EXPECT_EQ(error.rfind("scene.json: /solver/precision: ", 0), 0u) << error;
   EXPECT_NE(error.find("quasistatic scenes only"), std::string::npos) << error;
 }
 
 TEST(Scene, SinglePrecisionRefusesAnExplicitAcceleration) {
-  const std::string error = error_of(single_precision({{"accelerate", true}}));
+  const std::string error = parse_error_of(single_precision({{"accelerate", true}}));
   EXPECT_EQ(error.rfind("scene.json: /solver/precision: ", 0), 0u) << error;
   EXPECT_NE(error.find("accelerate"), std::string::npos) << error;
-  EXPECT_EQ(error_of(single_precision({{"accelerate", false}})), "");
+  EXPECT_EQ(parse_error_of(single_precision({{"accelerate", false}})), "");
 }
 
 // The tet engine has no multigrid precision to restrict.
@@ -138,7 +140,7 @@ TEST(Scene, SinglePrecisionChecksOnlyTheGridEngine) {
   auto d = single_precision();
   d["engine"] = "tet";
   d["time"] = {{"quasistatic", false}};
-  EXPECT_EQ(error_of(d), "");
+  EXPECT_EQ(parse_error_of(d), "");
 }
 
 }  // namespace
@@ -150,7 +152,7 @@ TEST(Scene, SinglePrecisionChecksOnlyTheGridEngine) {
 namespace mgelastic::scene {
 namespace {
 
-Scene bar_scene() {
+Scene grid_bar_scene() {
   return parse_scene(nlohmann::json::parse(R"({
     "geometry": {"difference": [{"box": {"size": [1, 0.25, 0.25]}},
                                 {"cylinder": {"a": [0, -1, 0], "b": [0, 1, 0], "radius": 0.12}}]},
@@ -161,7 +163,7 @@ Scene bar_scene() {
 }
 
 TEST(GridSetup, VoxelizesTheBodyAndMarksConstraintCells) {
-  const GridSetup setup = build_grid_setup(bar_scene());
+  const GridSetup setup = build_grid_setup(grid_bar_scene());
   EXPECT_GT(setup.interior_cells, 32u * 8 * 8 / 2);
   EXPECT_GT(setup.dirichlet_cells, 0u);
   // The drilled hole at the center is exterior: the cell at the bar's center is not interior.
@@ -174,7 +176,7 @@ TEST(GridSetup, VoxelizesTheBodyAndMarksConstraintCells) {
 }
 
 TEST(GridSetup, RegionSelectingNothingIsAnError) {
-  Scene s = bar_scene();
+  Scene s = grid_bar_scene();
   s.constraints[0].region =
       nlohmann::json::parse(R"({"sphere": {"center": [5, 5, 5], "radius": 0.1}})");
   try {

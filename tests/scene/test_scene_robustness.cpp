@@ -12,7 +12,7 @@
 namespace mgelastic::scene {
 namespace {
 
-std::string error_of(const std::string& text) {
+std::string text_error_of(const std::string& text) {
   try {
     parse_scene(nlohmann::json::parse(text), "scene.json", ".");
   } catch (const Error& e) {
@@ -47,20 +47,20 @@ TEST(SceneRobustness, NumberOverflowInJsonIsAnError) {
 
 // Integers are stored in int: 2^32 + 4 used to pass as >= 4 and wrap around to 4.
 TEST(SceneRobustness, IntegerBeyondIntIsRejected) {
-  EXPECT_EQ(
-      error_of(R"({"geometry": {"sphere": {"radius": 1}}, "grid": {"resolution": 4294967300}})"),
-      "scene.json: /grid/resolution: must be <= 2147483647 (got 4294967300)");
-  EXPECT_EQ(
-      error_of(R"({"geometry": {"sphere": {"radius": 1}}, "grid": {"resolution": 2147483647}})"),
-      "");
+  EXPECT_EQ(text_error_of(
+                R"({"geometry": {"sphere": {"radius": 1}}, "grid": {"resolution": 4294967300}})"),
+            "scene.json: /grid/resolution: must be <= 2147483647 (got 4294967300)");
+  EXPECT_EQ(text_error_of(
+                R"({"geometry": {"sphere": {"radius": 1}}, "grid": {"resolution": 2147483647}})"),
+            "");
 }
 
 TEST(SceneRobustness, CsgNestingIsBounded) {
-  EXPECT_EQ(error_of(nested_union(64)), "");
-  EXPECT_NE(error_of(nested_union(65)).find("shapes nested deeper than 64 CSG levels"),
+  EXPECT_EQ(text_error_of(nested_union(64)), "");
+  EXPECT_NE(text_error_of(nested_union(65)).find("shapes nested deeper than 64 CSG levels"),
             std::string::npos);
   // Deep enough to overflow the stack of the recursive validation without the bound.
-  EXPECT_NE(error_of(nested_union(100000)).find("nested deeper"), std::string::npos);
+  EXPECT_NE(text_error_of(nested_union(100000)).find("nested deeper"), std::string::npos);
 }
 
 }  // namespace

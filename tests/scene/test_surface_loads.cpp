@@ -29,7 +29,7 @@ nlohmann::json with_engine(const std::string& engine) {
 const char* kTipFace =
     R"({"region": {"box": {"center": [1, 0.1, 0.1], "size": [0.1, 1, 1]}}, "normal": [1, 0, 0]})";
 
-std::string error_of(const nlohmann::json& document, const std::string& engine = "") {
+std::string setup_error_of(const nlohmann::json& document, const std::string& engine = "") {
   try {
     const Scene s = parse_scene(document, "scene.json", ".");
     if (engine == "grid") build_grid_setup(s);
@@ -172,30 +172,31 @@ TEST(SurfaceLoads, PressureOnAFaceIsPTimesArea) {
 TEST(SurfaceLoads, ValidationErrorsNameTheJsonPointer) {
   nlohmann::json d = with_engine("grid");
   d["loads"]["pressures"] = nlohmann::json::parse(R"([{"region": {"sphere": {"radius": 1}}}])");
-  EXPECT_EQ(error_of(d), "scene.json: /loads/pressures/0/pressure: missing required key");
+  EXPECT_EQ(setup_error_of(d), "scene.json: /loads/pressures/0/pressure: missing required key");
   d["loads"]["pressures"][0]["pressure"] = 1;
   d["loads"]["pressures"][0]["normal_tolerance_degrees"] = 200;
-  EXPECT_EQ(error_of(d),
+  EXPECT_EQ(setup_error_of(d),
             "scene.json: /loads/pressures/0/normal_tolerance_degrees: must be <= 180 (got 200)");
   d["loads"].erase("pressures");
   d["loads"]["forces"] = nlohmann::json::parse(R"([{"region": {"sphere": {"radius": 1}},
                                                     "force": [1, 2]}])");
-  EXPECT_EQ(error_of(d), "scene.json: /loads/forces/0/force: expected an array of 3 numbers");
+  EXPECT_EQ(setup_error_of(d), "scene.json: /loads/forces/0/force: expected an array of 3 numbers");
   d["loads"]["forces"][0]["force"] = {0, 0, 1};
   d["loads"]["forces"][0]["region"] =
       nlohmann::json::parse(R"({"sphere": {"center": [9, 9, 9], "radius": 0.1}})");
-  EXPECT_EQ(error_of(d, "grid"),
+  EXPECT_EQ(setup_error_of(d, "grid"),
             "scene.json: /loads/forces/0/region: the region contains no part of the body's "
             "surface");
-  EXPECT_EQ(error_of(d, "tet"),
+  EXPECT_EQ(setup_error_of(d, "tet"),
             "scene.json: /loads/forces/0/region: the region contains no boundary face of the "
             "body");
   d["loads"]["forces"][0] = nlohmann::json::parse(kTipFace);
   d["loads"]["forces"][0]["force"] = {0, 0, 1};
   d["loads"]["forces"][0]["normal"] = {-1, 0, 0};  // no face near x = 1 looks back
-  EXPECT_NE(error_of(d, "tet").find("scene.json: /loads/forces/0/normal: no surface triangle"),
-            std::string::npos)
-      << error_of(d, "tet");
+  EXPECT_NE(
+      setup_error_of(d, "tet").find("scene.json: /loads/forces/0/normal: no surface triangle"),
+      std::string::npos)
+      << setup_error_of(d, "tet");
 }
 
 }  // namespace

@@ -26,7 +26,7 @@ constexpr double kCoordinate = 1e-12;
 
 // A bar [-0.5, 0.5] x [-0.1, 0.1] x [-0.1, 0.1] with tet.resolution 10 (h = 0.1: 10 x 2 x 2
 // cubes), its left end fixed and its right end keyframed (stretched and twisted about x).
-nlohmann::json bar_scene() {
+nlohmann::json tet_bar_scene() {
   return nlohmann::json::parse(R"({
     "engine": "tet",
     "geometry": {"box": {"size": [1.0, 0.2, 0.2]}},
@@ -53,7 +53,8 @@ double mesh_volume(const geometry::TetMesh& mesh) {
   return volume;
 }
 
-std::string error_of(const nlohmann::json& document, const std::filesystem::path& dir = ".") {
+std::string tet_setup_error_of(const nlohmann::json& document,
+                               const std::filesystem::path& dir = ".") {
   try {
     build_tet_setup(parse_scene(document, "scene.json", dir));
   } catch (const Error& e) {
@@ -63,7 +64,7 @@ std::string error_of(const nlohmann::json& document, const std::filesystem::path
 }
 
 TEST(TetSetup, GeneratedBoxMeshIsTheBoxExactly) {
-  const TetSetup setup = build_tet_setup(parse_scene(bar_scene(), "scene.json", "."));
+  const TetSetup setup = build_tet_setup(parse_scene(tet_bar_scene(), "scene.json", "."));
   EXPECT_DOUBLE_EQ(setup.cell_size, 0.1);
   EXPECT_EQ(setup.mesh.tet_count(), 10 * 2 * 2 * 6);
   EXPECT_NEAR(mesh_volume(setup.mesh), 0.04, 0.04 * kCoordinate);
@@ -74,7 +75,7 @@ TEST(TetSetup, GeneratedBoxMeshIsTheBoxExactly) {
 TEST(TetSetup, GeneratedSphereMeshCoversTheBallVolume) {
   // Cubes whose center is inside: the volume error is a boundary-layer sum of cut cubes that
   // mostly cancels; at 20 cubes across a ball of radius 0.5 it stays well under 3 %.
-  auto scene = bar_scene();
+  auto scene = tet_bar_scene();
   scene["geometry"] = {{"sphere", {{"radius", 0.5}}}};
   scene["constraints"] = nlohmann::json::array();
   scene["tet"]["resolution"] = 20;
@@ -90,7 +91,7 @@ TEST(TetSetup, GeneratedSphereMeshCoversTheBallVolume) {
 // grid engine would use (same spacing relative to the cube edge), every vertex on the sphere at
 // rest; most lie outside the cubes whose center is inside, so they are extrapolated.
 TEST(TetSetup, GeneratedMeshEmbedsTheRenderSurface) {
-  auto scene = bar_scene();
+  auto scene = tet_bar_scene();
   scene["geometry"] = {{"sphere", {{"radius", 0.5}}}};
   scene["tet"]["resolution"] = 8;
   scene["constraints"] = {
@@ -110,7 +111,7 @@ TEST(TetSetup, GeneratedMeshEmbedsTheRenderSurface) {
 }
 
 TEST(TetSetup, DirichletVerticesAreTheVerticesInsideTheRegions) {
-  const TetSetup setup = build_tet_setup(parse_scene(bar_scene(), "scene.json", "."));
+  const TetSetup setup = build_tet_setup(parse_scene(tet_bar_scene(), "scene.json", "."));
   // Each end face has 3 x 3 grid points.
   ASSERT_EQ(setup.dirichlet_vertices.size(), 18u);
   for (int v = 0; v < setup.mesh.vertex_count(); ++v) {
@@ -121,7 +122,7 @@ TEST(TetSetup, DirichletVerticesAreTheVerticesInsideTheRegions) {
 }
 
 TEST(TetSetup, FirstRegionListedWinsWhereRegionsOverlap) {
-  auto scene = bar_scene();
+  auto scene = tet_bar_scene();
   scene["constraints"][0]["region"] = {{"box", {{"size", {3, 3, 3}}}}};  // everything
   const TetSetup setup = build_tet_setup(parse_scene(scene, "scene.json", "."));
   EXPECT_EQ(static_cast<int>(setup.dirichlet_vertices.size()), setup.mesh.vertex_count());
@@ -129,7 +130,7 @@ TEST(TetSetup, FirstRegionListedWinsWhereRegionsOverlap) {
 }
 
 TEST(TetSetup, KeyframedVerticesFollowTheRegionsRigidMotion) {
-  const TetSetup setup = build_tet_setup(parse_scene(bar_scene(), "scene.json", "."));
+  const TetSetup setup = build_tet_setup(parse_scene(tet_bar_scene(), "scene.json", "."));
   ASSERT_TRUE(setup.animated);
   // Halfway between the keys: translation 0.2 along x, 45 degrees about the x axis through the
   // pivot (slerp at constant angular speed).
@@ -151,7 +152,7 @@ TEST(TetSetup, KeyframedVerticesFollowTheRegionsRigidMotion) {
 }
 
 TEST(TetSetup, SettingsComeFromTheScene) {
-  const TetSetup setup = build_tet_setup(parse_scene(bar_scene(), "scene.json", "."));
+  const TetSetup setup = build_tet_setup(parse_scene(tet_bar_scene(), "scene.json", "."));
   EXPECT_DOUBLE_EQ(setup.settings.time_step, 0.1 / 4);
   EXPECT_EQ(setup.settings.rotation_method, tet::RotationMethod::POLAR);
   EXPECT_EQ(setup.settings.linear_solver, tet::LinearSolver::CHOLESKY);
@@ -164,10 +165,10 @@ TEST(TetSetup, SettingsComeFromTheScene) {
 // tet.feature_patches reaches the multigrid settings; off (max_valence 0) by default; a patch
 // size below 1 is refused with the field's pointer.
 TEST(TetSetup, FeaturePatchesComeFromTheScene) {
-  EXPECT_EQ(build_tet_setup(parse_scene(bar_scene(), "scene.json", "."))
+  EXPECT_EQ(build_tet_setup(parse_scene(tet_bar_scene(), "scene.json", "."))
                 .settings.multigrid.patches.max_valence,
             0);
-  auto scene = bar_scene();
+  auto scene = tet_bar_scene();
   scene["tet"]["linear_solver"] = "multigrid";
   scene["tet"]["feature_patches"] = {{"max_valence", 7}, {"max_size", 10}, {"adaptive_rounds", 4}};
   const TetSetup setup = build_tet_setup(parse_scene(scene, "scene.json", "."));
@@ -175,29 +176,29 @@ TEST(TetSetup, FeaturePatchesComeFromTheScene) {
   EXPECT_EQ(setup.settings.multigrid.patches.max_size, 10);
   EXPECT_EQ(setup.settings.multigrid.adaptive_patches.rounds, 4);
   scene["tet"]["feature_patches"]["adaptive_rounds"] = -1;
-  const std::string rounds_error = error_of(scene);
+  const std::string rounds_error = tet_setup_error_of(scene);
   EXPECT_EQ(rounds_error.rfind("scene.json: /tet/feature_patches/adaptive_rounds: ", 0), 0u)
       << rounds_error;
   scene["tet"]["feature_patches"]["adaptive_rounds"] = 4;
   scene["tet"]["feature_patches"]["max_size"] = 0;
-  const std::string error = error_of(scene);
+  const std::string error = tet_setup_error_of(scene);
   EXPECT_EQ(error.rfind("scene.json: /tet/feature_patches/max_size: ", 0), 0u) << error;
 }
 
 TEST(TetSetup, RegionSelectingNoVertexNamesItsPointer) {
-  auto scene = bar_scene();
+  auto scene = tet_bar_scene();
   scene["constraints"][1]["region"] = {{"sphere", {{"center", {5, 5, 5}}, {"radius", 0.1}}}};
-  const std::string error = error_of(scene);
+  const std::string error = tet_setup_error_of(scene);
   EXPECT_EQ(error.rfind("scene.json: /constraints/1/region: the region contains no vertex", 0), 0u)
       << error;
 }
 
 TEST(TetSetup, UnsupportedInputsNameTheirPointer) {
-  auto free_static = bar_scene();
+  auto free_static = tet_bar_scene();
   free_static["constraints"] = nlohmann::json::array();
   free_static["time"]["quasistatic"] = true;
-  EXPECT_EQ(error_of(free_static).rfind("scene.json: /constraints: ", 0), 0u)
-      << error_of(free_static);
+  EXPECT_EQ(tet_setup_error_of(free_static).rfind("scene.json: /constraints: ", 0), 0u)
+      << tet_setup_error_of(free_static);
 }
 
 // The unit corner tetrahedron in TetGen format (1-based indices).
@@ -208,7 +209,7 @@ TEST(TetSetup, TetMeshFileIsReadAndTransformed) {
   const test::TempDir dir;
   dir.write("tet.node", kNode);
   dir.write("tet.ele", kEle);
-  auto scene = bar_scene();
+  auto scene = tet_bar_scene();
   scene["geometry"] = {{"mesh", "tet.node"},
                        {"transform", {{"translate", {1, 2, 3}}, {"scale", 2}}}};
   scene["constraints"] = {{{"region", {{"sphere", {{"center", {1, 2, 3}}, {"radius", 0.1}}}}}}};
@@ -230,14 +231,14 @@ TEST(TetSetup, BadTetMeshFileErrorNamesSceneKeyAndMeshLine) {
   const test::TempDir dir;
   dir.write("bad.node", kNode);
   dir.write("bad.ele", "1 4 0\n1 1 2 3 9\n");  // vertex 9 does not exist
-  auto scene = bar_scene();
+  auto scene = tet_bar_scene();
   scene["geometry"] = {{"mesh", "bad.ele"}};
-  const std::string error = error_of(scene, dir.path());
+  const std::string error = tet_setup_error_of(scene, dir.path());
   EXPECT_EQ(error.rfind("scene.json: /geometry/mesh: ", 0), 0u) << error;
   EXPECT_NE(error.find("bad.ele"), std::string::npos) << error;
   const std::string missing = [&] {
     scene["geometry"] = {{"mesh", "missing.msh"}};
-    return error_of(scene, dir.path());
+    return tet_setup_error_of(scene, dir.path());
   }();
   EXPECT_EQ(missing.rfind("scene.json: /geometry/mesh: ", 0), 0u) << missing;
   EXPECT_NE(missing.find("missing.msh"), std::string::npos) << missing;
@@ -283,7 +284,7 @@ TEST(TetSetup, DISABLED_ExampleSceneSurfaceCost) {
 // The paper's horse: stiff legs, soft knees. A material region overrides the tetrahedra whose
 // centroid it holds; the rest keep the scene's material.
 TEST(TetSetup, MaterialRegionsMakeTheBodyHeterogeneous) {
-  auto d = bar_scene();
+  auto d = tet_bar_scene();
   d["material"]["regions"] = nlohmann::json::parse(
       R"([{"region": {"box": {"center": [0.25, 0, 0], "size": [0.5, 1, 1]}},
            "youngs_modulus": 1e7, "poisson_ratio": 0.4, "density": 2000}])");
@@ -299,14 +300,15 @@ TEST(TetSetup, MaterialRegionsMakeTheBodyHeterogeneous) {
 }
 
 TEST(TetSetup, MaterialRegionSelectingNothingNamesItsPointer) {
-  auto d = bar_scene();
+  auto d = tet_bar_scene();
   d["material"]["regions"] = nlohmann::json::parse(
       R"([{"region": {"sphere": {"center": [5, 5, 5], "radius": 0.1}}, "youngs_modulus": 1e6,
            "poisson_ratio": 0.3, "density": 900}])");
-  EXPECT_NE(error_of(d).find("scene.json: /material/regions/0/region: the region contains no "
-                             "tetrahedron"),
-            std::string::npos)
-      << error_of(d);
+  EXPECT_NE(
+      tet_setup_error_of(d).find("scene.json: /material/regions/0/region: the region contains no "
+                                 "tetrahedron"),
+      std::string::npos)
+      << tet_setup_error_of(d);
 }
 
 // A traction t on the free end face of a bar clamped at the other end: the lumped forces add up
@@ -345,13 +347,14 @@ TEST(TetSetup, EndTractionGivesTheUniaxialStretch) {
 }
 
 TEST(TetSetup, TractionRegionWithoutBoundaryFaceNamesItsPointer) {
-  auto d = bar_scene();
+  auto d = tet_bar_scene();
   d["loads"]["tractions"] = nlohmann::json::parse(
       R"([{"region": {"sphere": {"center": [0, 0, 0], "radius": 0.05}}, "traction": [1, 0, 0]}])");
-  EXPECT_NE(error_of(d).find("scene.json: /loads/tractions/0/region: the region contains no "
-                             "boundary face"),
-            std::string::npos)
-      << error_of(d);
+  EXPECT_NE(
+      tet_setup_error_of(d).find("scene.json: /loads/tractions/0/region: the region contains no "
+                                 "boundary face"),
+      std::string::npos)
+      << tet_setup_error_of(d);
 }
 
 }  // namespace

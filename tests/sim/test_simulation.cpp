@@ -11,6 +11,7 @@
 
 #include "mgelastic/sim/output_observer.hpp"
 #include "mgelastic/sim/simulation.hpp"
+#include "sim/sim_test_support.hpp"
 
 namespace mgelastic::sim {
 namespace {
@@ -42,9 +43,7 @@ nlohmann::json bar(const std::string& engine, bool quasistatic, const std::strin
   return s;
 }
 
-scene::Scene make(const nlohmann::json& document) {
-  return scene::parse_scene(document, "test scene", ".");
-}
+using test::make;
 
 // The engine's primary state as one vector (grid: nodal displacement; tet: vertex positions).
 std::vector<double> state(const Simulation& s) {

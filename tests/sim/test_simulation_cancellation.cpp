@@ -64,7 +64,7 @@ scene::Scene bar(const Case& c) {
 
 // The engine's state as one vector (grid: nodal displacement and velocity; tet: positions and
 // velocities).
-std::vector<double> state(const Simulation& s) {
+std::vector<double> full_state(const Simulation& s) {
   std::vector<double> out;
   if (const auto* grid = s.grid()) {
     out = grid->displacement().values;
@@ -92,7 +92,7 @@ TEST_P(CancelledStep, ReturnsToTheLastFrameAndContinuesAsUninterrupted) {
   Simulation interrupted(bar(c)), plain(bar(c));
   interrupted.step();
   plain.step();
-  const std::vector<double> before = state(interrupted);
+  const std::vector<double> before = full_state(interrupted);
   const FrameStats stats_before = interrupted.stats();
   const double build_seconds = interrupted.grid() ? interrupted.grid()->hierarchy_seconds() : 0;
   const Eigen::Vector3d traction(0, -200, 0);
@@ -116,7 +116,7 @@ TEST_P(CancelledStep, ReturnsToTheLastFrameAndContinuesAsUninterrupted) {
   // A changed load went into the solver before the cancelled solve (the linear model
   // back-substitutes its traction values then), so the state is the last frame's under it.
   if (!c.change_load) {
-    EXPECT_EQ(state(interrupted), before) << c.name;
+    EXPECT_EQ(full_state(interrupted), before) << c.name;
   }
   if (interrupted.grid()) {
     EXPECT_EQ(interrupted.grid()->hierarchy_seconds(), build_seconds) << c.name << " rebuilt";
@@ -126,7 +126,7 @@ TEST_P(CancelledStep, ReturnsToTheLastFrameAndContinuesAsUninterrupted) {
   plain.step();
   EXPECT_EQ(interrupted.frame(), 2) << c.name;
   EXPECT_EQ(interrupted.stats().cycles, plain.stats().cycles) << c.name;
-  EXPECT_EQ(state(interrupted), state(plain)) << c.name;
+  EXPECT_EQ(full_state(interrupted), full_state(plain)) << c.name;
 }
 
 INSTANTIATE_TEST_SUITE_P(

@@ -17,6 +17,7 @@
 
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/sim/simulation.hpp"
+#include "sim/sim_test_support.hpp"
 
 namespace mgelastic::sim {
 namespace {
@@ -57,9 +58,7 @@ nlohmann::json loaded_bar(const std::string& engine, const std::string& kind, do
   return s;
 }
 
-scene::Scene make(const nlohmann::json& document) {
-  return scene::parse_scene(document, "test scene", ".");
-}
+using test::make;
 
 // Sets the load of `kind` to what loaded_bar(kind, scale) gives it.
 void set_load(Simulation& s, const std::string& kind, double scale) {

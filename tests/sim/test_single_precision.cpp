@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "mgelastic/sim/simulation.hpp"
+#include "sim/sim_test_support.hpp"
 
 namespace mgelastic::sim {
 namespace {
@@ -34,9 +35,7 @@ nlohmann::json cube(const std::string& precision, double tolerance) {
   return s;
 }
 
-scene::Scene make(const nlohmann::json& document) {
-  return scene::parse_scene(document, "test scene", ".");
-}
+using test::make;
 
 // Relative round-off of a float solve of a second-order operator on n cells: float's epsilon
 // times the operator's condition growth (L/h)^2 (1.7e-5 at 12 cells; measured on this cube:

@@ -13,7 +13,7 @@
 namespace mgelastic::tet {
 namespace {
 
-const ElasticMaterial kMaterial{1e5, 0.3, 1000.0};
+using test::kMaterial;
 
 // A small mesh deformed randomly, so every element gets a different non-trivial rotation.
 struct DeformedBody {

@@ -12,7 +12,7 @@
 namespace mgelastic::tet {
 namespace {
 
-const ElasticMaterial kMaterial{1e5, 0.3, 1000.0};
+using test::kMaterial;
 
 std::vector<int> vertices_with_x_below(const geometry::TetMesh& mesh, double x) {
   std::vector<int> selected;

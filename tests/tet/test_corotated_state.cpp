@@ -12,7 +12,7 @@
 namespace mgelastic::tet {
 namespace {
 
-const ElasticMaterial kMaterial{1e5, 0.3, 1000.0};
+using test::kMaterial;
 
 // A bar clamped at x = 0, sagging and swinging under gravity: large rotations, so the energy
 // rotation fit's warm starts matter, and Newmark carries accelerations from step to step.

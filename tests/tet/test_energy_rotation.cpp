@@ -15,7 +15,7 @@
 namespace mgelastic::tet {
 namespace {
 
-const ElasticMaterial kMaterial{1e5, 0.3, 1000.0};
+using test::kMaterial;
 
 Eigen::Vector4d wxyz(const Eigen::Quaterniond& q) {
   return {q.w(), q.x(), q.y(), q.z()};

@@ -13,7 +13,7 @@
 namespace mgelastic::tet {
 namespace {
 
-const ElasticMaterial kMaterial{1e5, 0.3, 1000.0};
+using test::kMaterial;
 
 // A random, reasonably shaped, positively oriented tetrahedron.
 TetCorners random_tet(std::mt19937& rng) {

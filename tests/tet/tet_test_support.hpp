@@ -10,10 +10,14 @@
 
 #include "mgelastic/geometry/tet_mesh.hpp"
 #include "mgelastic/geometry/tet_mesh_grid.hpp"
+#include "mgelastic/tet/linear_tet_element.hpp"
 
 #include "support/temp_dir.hpp"
 
 namespace mgelastic::test {
+
+// The tet tests' default material: E = 1e5 Pa, nu = 0.3, density 1000 kg/m^3.
+inline const tet::ElasticMaterial kMaterial{1e5, 0.3, 1000.0};
 
 // Round-off of a 12x12 element computation in double, relative to |K|: a few hundred ulps.
 inline constexpr double kElementRoundoff = 1e-12;
