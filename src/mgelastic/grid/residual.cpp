@@ -13,6 +13,20 @@ namespace {
 // double at Dim = 3) stay in L1 between the evaluation and the masked copy.
 constexpr std::ptrdiff_t residual_chunk = 512;
 
+// sum_{i < n} term(i) in eight partial sums, added pairwise at the end: a fixed order (the same
+// value for any thread count) without one chain of dependent adds (~4 cycles per entry, which
+// made the sums of squares a third of a residual pass).
+template <typename Term>
+double split_sum(std::ptrdiff_t n, const Term& term) {
+  constexpr int kParts = 8;
+  double part[kParts] = {};
+  std::ptrdiff_t i = 0;
+  for (; i + kParts <= n; i += kParts)
+    for (int j = 0; j < kParts; ++j) part[j] += term(i + j);
+  for (int j = 0; i < n; ++i, ++j) part[j] += term(i);
+  return ((part[0] + part[1]) + (part[2] + part[3])) + ((part[4] + part[5]) + (part[6] + part[7]));
+}
+
 // Stencil residuals of every field in one pass: each momentum row reads every u_j and p, so
 // one pass streams x once instead of once per field (Dim + 1 times).
 //   r_i = b_i - L_i(u, p) + c u_i   (momentum rows, DISTRIBUTIVE equations, else 0)
@@ -72,10 +86,9 @@ void stencil_residual(const Level<Dim, Scalar>& level, const std::array<const Sc
       for (std::ptrdiff_t i = 0; i < m; ++i)
         out[i] = rf[i] == Relaxation::DISTRIBUTIVE ? static_cast<Out>(v[i]) : Out(0);
       if (!chunk_squares) continue;
-      double squares = 0;
-      for (std::ptrdiff_t i = 0; i < m; ++i)
-        squares += rf[i] == Relaxation::DISTRIBUTIVE ? static_cast<double>(v[i]) * v[i] : 0.0;
-      (*chunk_squares)[q] += squares;
+      (*chunk_squares)[q] += split_sum(m, [&](std::ptrdiff_t i) {
+        return rf[i] == Relaxation::DISTRIBUTIVE ? static_cast<double>(v[i]) * v[i] : 0.0;
+      });
     }
   }
 }
@@ -140,9 +153,9 @@ double norm_of(const std::array<const T*, Dim + 1>& r, std::size_t size) {
     const T* field = r[q / chunks_per_field];
     const std::ptrdiff_t begin = (q % chunks_per_field) * chunk;
     const std::ptrdiff_t end = std::min(begin + chunk, n);
-    double sum = 0.0;
-    for (std::ptrdiff_t k = begin; k < end; ++k) sum += static_cast<double>(field[k]) * field[k];
-    partial[q] = sum;
+    partial[q] = split_sum(end - begin, [&](std::ptrdiff_t i) {
+      return static_cast<double>(field[begin + i]) * field[begin + i];
+    });
   }
   double sum = 0.0;
   for (double value : partial) sum += value;
