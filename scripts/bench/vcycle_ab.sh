@@ -3,15 +3,19 @@
 # alternate (old, new, old, new, ...) so both see the same machine load, and each phase's
 # minimum over the repetitions is printed (the least disturbed run).
 # Usage: scripts/bench/vcycle_ab.sh OLD_BINARY NEW_BINARY [size] [threads] [repetitions] [cycles]
+#          [more bench vcycle options]
+#   e.g. an embedded shape: scripts/bench/vcycle_ab.sh OLD NEW 0 2 3 6 --mesh armadillo.obj \
+#          --resolution 128
 set -euo pipefail
 old="$1" new="$2" size="${3:-64}" threads="${4:-1}" reps="${5:-3}" cycles="${6:-6}"
+shift $(($# < 6 ? $# : 6))
 dir="$(mktemp -d)"
 trap 'rm -rf "$dir"' EXIT
 for i in $(seq "$reps"); do
   for which in old new; do
     bin="$old"
     [ "$which" = new ] && bin="$new"
-    "$bin" bench vcycle --sizes "$size" --threads "$threads" --cycles "$cycles" --json \
+    "$bin" bench vcycle --sizes "$size" --threads "$threads" --cycles "$cycles" --json "$@" \
       >"$dir/${which}_$i.json"
   done
 done

@@ -18,6 +18,7 @@
 // solution level of a mixed-precision solve keeps only what residuals, corrections and traction
 // back-substitution read (Multigrid drops the rest).
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -37,6 +38,17 @@ enum class VarKind : std::uint8_t { INACTIVE = 0, INTERIOR = 1, DIRICHLET = 2, T
 
 // Which smoother relaxes the equation collocated with an interior variable.
 enum class Relaxation : std::uint8_t { NONE = 0, DISTRIBUTIVE = 1, BAND = 2 };
+
+// Whether any of n codes is `wanted`: a byte-wise OR, which vectorizes (with a bool accumulator
+// GCC kept a scalar compare per entry, 13 % of the distributive sweep's momentum rows). The
+// kernels skip chunks and rows outside an embedded body (most of its bounding box) with it.
+template <typename Code>
+inline bool any_equal(const Code* codes, std::ptrdiff_t n, Code wanted) {
+  unsigned char any = 0;
+#pragma omp simd reduction(| : any)
+  for (std::ptrdiff_t i = 0; i < n; ++i) any |= static_cast<unsigned char>(codes[i] == wanted);
+  return any != 0;
+}
 
 // Explicit rows in CSR form. Row value = sum value[e] * x[column_field[e]][column_index[e]];
 // `constant` holds boundary stresses moved to the right-hand side (equation: row = b - constant).

@@ -123,11 +123,17 @@ void add_correction(const Level<Dim, Scalar>& fine, Level<Dim, double>& solution
     const VarKind* kind = fine.kind[f].data();
     const Scalar* e = fine.x[f].data();
     double* x = solution.x[f].data();
-#pragma omp parallel for schedule(static)
-    // The add always runs and only its operand is selected (a conditional add would be a branch
+    // Chunks without an INTERIOR variable (outside an embedded body) are skipped; inside one the
+    // add always runs and only its operand is selected (a conditional add would be a branch
     // under -ftrapping-math and keep the loop scalar); x + 0 leaves every other x as it was.
-    for (std::ptrdiff_t k = 0; k < size; ++k)
-      x[k] += kind[k] == VarKind::INTERIOR ? static_cast<double>(e[k]) : 0.0;
+    constexpr std::ptrdiff_t chunk = 1024;
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t begin = 0; begin < size; begin += chunk) {
+      const std::ptrdiff_t end = std::min(begin + chunk, size);
+      if (!any_equal(kind + begin, end - begin, VarKind::INTERIOR)) continue;
+      for (std::ptrdiff_t k = begin; k < end; ++k)
+        x[k] += kind[k] == VarKind::INTERIOR ? static_cast<double>(e[k]) : 0.0;
+    }
   }
 }
 

@@ -27,6 +27,15 @@ double split_sum(std::ptrdiff_t n, const Term& term) {
   return ((part[0] + part[1]) + (part[2] + part[3])) + ((part[4] + part[5]) + (part[6] + part[7]));
 }
 
+// Whether any field's equation in [begin, begin + m) is a stencil (DISTRIBUTIVE) row.
+template <int Dim>
+bool any_distributive(const std::array<const Relaxation*, Dim + 1>& relax, std::ptrdiff_t begin,
+                      std::ptrdiff_t m) {
+  for (int f = 0; f <= Dim; ++f)
+    if (any_equal(relax[f] + begin, m, Relaxation::DISTRIBUTIVE)) return true;
+  return false;
+}
+
 // Stencil residuals of every field in one pass: each momentum row reads every u_j and p, so
 // one pass streams x once instead of once per field (Dim + 1 times).
 //   r_i = b_i - L_i(u, p) + c u_i   (momentum rows, DISTRIBUTIVE equations, else 0)
@@ -66,6 +75,12 @@ void stencil_residual(const Level<Dim, Scalar>& level, const std::array<const Sc
   for (std::ptrdiff_t q = 0; q < chunks; ++q) {
     const std::ptrdiff_t begin = lo + q * residual_chunk;
     const std::ptrdiff_t m = std::min(residual_chunk, hi - begin);
+    if (!any_distributive<Dim>(relax, begin, m)) {
+      // Outside an embedded body (most of its bounding box) a chunk holds no stencil row: its
+      // residuals are zero (as the select below would give) without reading x and b.
+      for (int f = 0; f <= Dim; ++f) std::fill(r[f] + begin, r[f] + begin + m, Out(0));
+      continue;
+    }
     alignas(64) Scalar value[Dim + 1][residual_chunk];
     for (std::ptrdiff_t i = 0; i < m; ++i) {
       const std::ptrdiff_t k = begin + i;

@@ -7,6 +7,13 @@
 namespace mgelastic::grid {
 namespace {
 
+// Whether a storage row of n variables holds an INTERIOR one. Both transfers write only
+// INTERIOR variables, so rows without one (outside an embedded body, most of its bounding box)
+// are skipped without reading the other level.
+bool has_interior(const VarKind* kind, int n) {
+  return any_equal(kind, n, VarKind::INTERIOR);
+}
+
 struct Tap {
   int coordinate;  // stored coordinate on the other level
   double weight;
@@ -180,6 +187,7 @@ void restrict_residual(const Level<Dim, Scalar>& fine, Level<Dim, Scalar>& coars
         taps[a] = stored_restriction_taps(s[a], a == field, fine.lattice.padded(a));
       const std::ptrdiff_t base = coarse.lattice.index(s);
       const VarKind* kind = coarse.kind[field].data() + base;
+      if (!has_interior(kind, coarse.lattice.padded(0))) return;  // b stays zero
       Scalar* b = coarse.b[field].data() + base;
       auto general = [&](int i) {
         if (kind[i] != VarKind::INTERIOR) return;
@@ -389,6 +397,9 @@ void prolongate_pairs_dispatch(bool face_x, int n1, int n2, const Scalar* cx, co
 template <int Dim, typename Scalar>
 void prolongate_row(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>& fine, int field,
                     const IVec<Dim>& s) {
+  const std::ptrdiff_t base = fine.lattice.index(s);
+  const VarKind* fine_kind = fine.kind[field].data();
+  if (!has_interior(fine_kind + base, fine.lattice.padded(0))) return;
   OuterTaps<Dim> outer;
   int rows = 1;
   for (int a = 1; a < Dim; ++a) {
@@ -405,11 +416,9 @@ void prolongate_row(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>& fine, 
     }
     outer.offset[r] = offset;
   }
-  const VarKind* fine_kind = fine.kind[field].data();
   const VarKind* coarse_kind = coarse.kind[field].data();
   const Scalar* cx = coarse.x[field].data();
   Scalar* x = fine.x[field].data();
-  const std::ptrdiff_t base = fine.lattice.index(s);
   // INTERIOR (1) and TRACTION (3) are the active kinds: bit 0 set.
   auto active = [&](std::ptrdiff_t k) { return (static_cast<int>(coarse_kind[k]) & 1) != 0; };
   auto point = [&](int i) {
