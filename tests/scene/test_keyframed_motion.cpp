@@ -5,6 +5,7 @@
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/scene/keyframed_motion.hpp"
 #include "mgelastic/scene/scene.hpp"
+#include "scene/scene_test_support.hpp"
 #include "support/tolerances.hpp"
 
 namespace mgelastic::scene {
@@ -20,14 +21,7 @@ nlohmann::json keyframed_scene() {
                                     "rotate_axis": [1, 0, 0], "rotate_degrees": 90}]}]})");
 }
 
-std::string keyframe_error_of(const nlohmann::json& document) {
-  try {
-    parse_scene(document, "scene.json", ".");
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::parse_error_of;
 
 TEST(KeyframedMotion, FixedMotionIsIdentity) {
   const KeyframedMotion fixed;
@@ -61,25 +55,24 @@ TEST(KeyframedMotion, NonIncreasingTimesAreRejectedWithPointer) {
   auto d = keyframed_scene();
   d["constraints"][0]["keyframes"][1]["time"] = 0;
   EXPECT_NE(
-      keyframe_error_of(d).find("scene.json: /constraints/0/keyframes/1/time: keyframe times must "
-                                "increase strictly"),
+      parse_error_of(d).find("scene.json: /constraints/0/keyframes/1/time: keyframe times must "
+                             "increase strictly"),
       std::string::npos)
-      << keyframe_error_of(d);
+      << parse_error_of(d);
 }
 
 TEST(KeyframedMotion, KeyframedRegionWithoutKeysIsRejected) {
   auto d = keyframed_scene();
   d["constraints"][0]["keyframes"] = nlohmann::json::array();
   EXPECT_NE(
-      keyframe_error_of(d).find("/constraints/0/keyframes: a keyframed region needs at least one"),
+      parse_error_of(d).find("/constraints/0/keyframes: a keyframed region needs at least one"),
       std::string::npos);
 }
 
 TEST(KeyframedMotion, KeysOnAFixedRegionAreRejected) {
   auto d = keyframed_scene();
   d["constraints"][0]["motion"] = "fixed";
-  EXPECT_NE(keyframe_error_of(d).find("/constraints/0/keyframes: keyframes need"),
-            std::string::npos);
+  EXPECT_NE(parse_error_of(d).find("/constraints/0/keyframes: keyframes need"), std::string::npos);
 }
 
 }  // namespace

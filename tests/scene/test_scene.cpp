@@ -6,6 +6,7 @@
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/scene/scene.hpp"
 #include "mgelastic/scene/schema.hpp"
+#include "scene/scene_test_support.hpp"
 
 namespace mgelastic::scene {
 namespace {
@@ -14,14 +15,7 @@ nlohmann::json minimal() {
   return nlohmann::json::parse(R"({"geometry": {"sphere": {"radius": 0.5}}})");
 }
 
-std::string parse_error_of(const nlohmann::json& document) {
-  try {
-    parse_scene(document, "scene.json", ".");
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::parse_error_of;
 
 TEST(Scene, MinimalSceneGetsDocumentedDefaults) {
   const Scene s = parse_scene(minimal(), "scene.json", ".");

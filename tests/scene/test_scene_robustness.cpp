@@ -7,18 +7,15 @@
 
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/scene/scene.hpp"
+#include "scene/scene_test_support.hpp"
 #include "support/temp_dir.hpp"
 
 namespace mgelastic::scene {
 namespace {
 
+// The parse error of a scene given as JSON text.
 std::string text_error_of(const std::string& text) {
-  try {
-    parse_scene(nlohmann::json::parse(text), "scene.json", ".");
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
+  return test::parse_error_of(nlohmann::json::parse(text));
 }
 
 // `depth` unions around a box.
