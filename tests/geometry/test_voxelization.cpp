@@ -5,11 +5,74 @@
 #include <utility>
 #include <vector>
 
+#include <filesystem>
+
+#include "geometry/surface_mesh_test_support.hpp"
+#include "mgelastic/geometry/csg.hpp"
+#include "mgelastic/geometry/mesh_shape.hpp"
 #include "mgelastic/geometry/primitives.hpp"
 #include "mgelastic/geometry/voxelization.hpp"
 
 namespace mgelastic::geometry {
 namespace {
+
+// The occupancy definition of voxelization.hpp, query by query: d(center), then all 4^3 samples.
+std::vector<std::uint8_t> reference_overlapping_cells(const VoxelGrid& grid, const Shape& shape) {
+  std::vector<std::uint8_t> mask(grid.cell_count(), 0);
+  const double h = grid.cell_size;
+  for (int k = 0; k < grid.dims[2]; ++k)
+    for (int j = 0; j < grid.dims[1]; ++j)
+      for (int i = 0; i < grid.dims[0]; ++i) {
+        const Point center = grid.cell_center(i, j, k);
+        const double d = shape.signed_distance(center);
+        bool overlaps = d <= 0.0;
+        if (!overlaps && d <= 0.5 * std::sqrt(3.0) * h)
+          for (int s = 0; s < 64 && !overlaps; ++s) {
+            const Eigen::Vector3d index(s % 4, (s / 4) % 4, s / 16);
+            const Point offset = ((index.array() + 0.5) / 4 - 0.5).matrix() * h;
+            overlaps = shape.signed_distance(center + offset) <= 0.0;
+          }
+        mask[grid.index(i, j, k)] = overlaps;
+      }
+  return mask;
+}
+
+// overlapping_cells skips the sample queries whose sign a nearer query already implies; it must
+// give the definition's answer cell for cell.
+void expect_reference_occupancy(const Shape& shape, int resolution, const std::string& name) {
+  VoxelizeOptions options;
+  options.resolution = resolution;
+  const VoxelLattice lattice = voxel_lattice(shape.bounding_box(), options);
+  VoxelGrid grid;
+  grid.cell_size = lattice.cell_size;
+  grid.dims = lattice.cells.cast<int>();
+  grid.origin = lattice.origin;
+  const std::vector<std::uint8_t> fast = overlapping_cells(grid, shape);
+  const std::vector<std::uint8_t> reference = reference_overlapping_cells(grid, shape);
+  std::size_t differ = 0, occupied = 0;
+  for (std::size_t c = 0; c < fast.size(); ++c) {
+    differ += fast[c] != reference[c];
+    occupied += reference[c];
+  }
+  EXPECT_GT(occupied, 0u) << name;
+  EXPECT_EQ(differ, 0u) << name << ": cells that differ from the definition";
+}
+
+TEST(Voxelization, SkippedSampleQueriesKeepTheDefinitionsOccupancy) {
+  const ShapePtr carved = make_difference({make_box(Point(0.5, 0.5, 0.5), Point(1, 0.8, 0.6)),
+                                           make_sphere(Point(0.2, 0.3, 0.7), 0.35)});
+  const ShapePtr ring = make_torus(Point(0, 0, 0), Point(0.3, 0.2, 1), 0.6, 0.12);
+  for (int n : {13, 24}) {
+    expect_reference_occupancy(*carved, n, "box minus sphere at " + std::to_string(n));
+    expect_reference_occupancy(*ring, n, "torus at " + std::to_string(n));
+  }
+  const std::filesystem::path dir = test::data_dir();
+  if (dir.empty()) return;
+  for (const char* file : {"armadillo.obj", "bunny.off", "spot.obj"}) {
+    ASSERT_TRUE(std::filesystem::exists(dir / file)) << dir / file << " is missing";
+    expect_reference_occupancy(*load_mesh_shape(dir / file), 24, file);
+  }
+}
 
 double occupied_volume(const VoxelGrid& grid) {
   double count = 0;

@@ -1,5 +1,6 @@
 #include "mgelastic/geometry/voxelization.hpp"
 
+#include <array>
 #include <cmath>
 #include <string>
 
@@ -9,18 +10,37 @@
 namespace mgelastic::geometry {
 namespace {
 
+// The definition in voxelization.hpp, with fewer queries: d is a lower bound of the distance to
+// the body's surface with the body's sign, so every point closer than |d(p)| to p has the sign
+// of d(p). A sample within d(center) of the center, or within d of an already evaluated outside
+// sample, is outside and needs no query. The answer is the definition's (cells near a surface
+// queried 64 times made the query count, and the voxelization, ~15x the cell count at 128).
 bool cell_overlaps(const Shape& shape, const Point& center, double h) {
   const double d = shape.signed_distance(center);
   if (d <= 0.0) return true;
   if (d > 0.5 * std::sqrt(3.0) * h) return false;
   constexpr int samples = 4;
+  std::array<Point, samples * samples * samples> outside_point;
+  std::array<double, samples * samples * samples> outside_radius;
+  int known = 0;
+  const auto known_outside = [&](const Point& p) {
+    if ((p - center).norm() < d) return true;
+    for (int q = 0; q < known; ++q)
+      if ((p - outside_point[q]).norm() < outside_radius[q]) return true;
+    return false;
+  };
   for (int k = 0; k < samples; ++k)
     for (int j = 0; j < samples; ++j)
       for (int i = 0; i < samples; ++i) {
         // Points strictly inside the cell: touching a face or an edge is not overlapping.
         const Point offset =
             ((Eigen::Vector3d(i, j, k).array() + 0.5) / samples - 0.5).matrix() * h;
-        if (shape.signed_distance(center + offset) <= 0.0) return true;
+        const Point p = center + offset;
+        if (known_outside(p)) continue;
+        const double dp = shape.signed_distance(p);
+        if (dp <= 0.0) return true;
+        outside_point[known] = p;
+        outside_radius[known++] = dp;
       }
   return false;
 }
@@ -111,15 +131,32 @@ int bridge_diagonal_contacts(VoxelGrid& grid) {
   return total;
 }
 
+// Cell by cell along each x-row, with the same property as cell_overlaps: a query at a center
+// with |d| > h decides the next centers too while they lie strictly inside its ball (the sign
+// is d's there), and an outside center's cell cannot overlap when its distance bound exceeds
+// the half diagonal. Rows are independent, so the result does not depend on the thread count.
 std::vector<std::uint8_t> overlapping_cells(const VoxelGrid& grid, const Shape& region) {
   std::vector<std::uint8_t> mask(grid.cell_count(), 0);
   const auto& n = grid.dims;
+  const double h = grid.cell_size, half_diagonal = 0.5 * std::sqrt(3.0) * h;
 #pragma omp parallel for schedule(dynamic, 1)
   for (int k = 0; k < n[2]; ++k)
-    for (int j = 0; j < n[1]; ++j)
-      for (int i = 0; i < n[0]; ++i)
-        mask[grid.index(i, j, k)] =
-            cell_overlaps(region, grid.cell_center(i, j, k), grid.cell_size);
+    for (int j = 0; j < n[1]; ++j) {
+      double bound = 0;  // lower bound of |d| at the current center from the last query
+      bool inside = false;
+      for (int i = 0; i < n[0]; ++i, bound -= h) {
+        std::uint8_t& cell = mask[grid.index(i, j, k)];
+        if (bound > (inside ? 0.0 : half_diagonal)) {
+          cell = inside;
+          continue;
+        }
+        const Point center = grid.cell_center(i, j, k);
+        const double d = region.signed_distance(center);
+        inside = d <= 0.0;
+        bound = std::abs(d);
+        cell = inside || (d <= half_diagonal && cell_overlaps(region, center, h));
+      }
+    }
   return mask;
 }
 
