@@ -15,8 +15,8 @@ namespace {
 // of d(p). A sample within d(center) of the center, or within d of an already evaluated outside
 // sample, is outside and needs no query. The answer is the definition's (cells near a surface
 // queried 64 times made the query count, and the voxelization, ~15x the cell count at 128).
-bool cell_overlaps(const Shape& shape, const Point& center, double h) {
-  const double d = shape.signed_distance(center);
+// d = shape.signed_distance(center), already queried by the caller.
+bool cell_overlaps(const Shape& shape, const Point& center, double d, double h) {
   if (d <= 0.0) return true;
   if (d > 0.5 * std::sqrt(3.0) * h) return false;
   constexpr int samples = 4;
@@ -154,7 +154,7 @@ std::vector<std::uint8_t> overlapping_cells(const VoxelGrid& grid, const Shape& 
         const double d = region.signed_distance(center);
         inside = d <= 0.0;
         bound = std::abs(d);
-        cell = inside || (d <= half_diagonal && cell_overlaps(region, center, h));
+        cell = inside || (d <= half_diagonal && cell_overlaps(region, center, d, h));
       }
     }
   return mask;
