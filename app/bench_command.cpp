@@ -132,11 +132,32 @@ nlohmann::json memory_breakdown_json(const grid::Multigrid<Dim, Scalar>& mg) {
   return shares;
 }
 
+// Per active (interior) cell of the finest level: time per V-cycle, working set, and the finest
+// level's band momentum rows with the share of their relaxations done in runs (band_runs.hpp).
+// Issue 24 compares embedded bodies with the box by these: a body's band is a larger fraction of
+// its cells, and its rows form fewer runs.
+template <int Dim, typename Scalar>
+void add_per_cell_fields(nlohmann::json& record, const grid::Multigrid<Dim, Scalar>& mg) {
+  const grid::Level<Dim, Scalar>& finest = mg.finest();
+  const auto cells = static_cast<double>(
+      std::count(finest.cells.begin(), finest.cells.end(), grid::CellType::INTERIOR));
+  const auto& runs = finest.band_runs;
+  record["active_cells"] = cells;
+  record["ns_per_active_cell"] = record["vcycle_seconds"].get<double>() / cells * 1e9;
+  record["bytes_per_active_cell"] = static_cast<double>(mg.bytes()) / cells;
+  record["band_rows_per_active_cell"] = static_cast<double>(finest.band_kernel.rows()) / cells;
+  record["band_relaxations_in_runs"] = runs.row_relaxations > 0
+                                           ? static_cast<double>(runs.row_relaxations_in_runs) /
+                                                 static_cast<double>(runs.row_relaxations)
+                                           : 0.0;
+}
+
 // The fields every V-cycle record shares: seconds per cycle, memory, phases and roofline.
 template <int Dim, typename Scalar>
 void add_cycle_fields(nlohmann::json& record, const grid::Multigrid<Dim, Scalar>& mg,
                       const grid::SolveReport& report, double triad_gb_per_s) {
   record["vcycle_seconds"] = report.seconds / std::max(1, report.cycles());
+  add_per_cell_fields(record, mg);
   record["working_set_bytes"] = mg.bytes();
   record["memory_breakdown"] = memory_breakdown_json(mg);
   record["threads"] = thread_count();
@@ -460,6 +481,19 @@ void print_profile_summary(const nlohmann::json& records, const BoxBenchOptions&
   std::printf("\n%-20s", "bytes per unknown");
   for (const auto& r : records)
     std::printf(" | %9.0f", r["working_set_bytes"].get<double>() / r["unknowns"].get<double>());
+  const std::vector<std::pair<const char*, const char*>> per_cell = {
+      {"active cells", "active_cells"},
+      {"ns/cycle per cell", "ns_per_active_cell"},
+      {"bytes per cell", "bytes_per_active_cell"},
+      {"band rows per cell", "band_rows_per_active_cell"},
+      {"band in runs", "band_relaxations_in_runs"}};
+  for (const auto& [label, key] : per_cell) {
+    std::printf("\n%-20s", label);
+    for (const auto& r : records) {
+      const double value = r[key].get<double>();
+      std::printf(value >= 100 ? " | %9.0f" : " | %9.3f", value);
+    }
+  }
   std::printf("\n");
   // The breakdown rows (the same groups in every run of one precision).
   std::printf("%-36s", "bytes per unknown by array group");
