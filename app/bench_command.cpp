@@ -132,10 +132,10 @@ nlohmann::json memory_breakdown_json(const grid::Multigrid<Dim, Scalar>& mg) {
   return shares;
 }
 
-// Per active (interior) cell of the finest level: time per V-cycle, working set, and the finest
-// level's band momentum rows with the share of their relaxations done in runs (band_runs.hpp).
-// Issue 24 compares embedded bodies with the box by these: a body's band is a larger fraction of
-// its cells, and its rows form fewer runs.
+// Per active (interior) cell of the finest level: the record's time per V-cycle and working set,
+// and the finest level's band momentum rows with the share of their relaxations done in runs
+// (band_runs.hpp). Issue 24 compares embedded bodies with the box by these: a body's band is a
+// larger fraction of its cells, and its rows form fewer runs.
 template <int Dim, typename Scalar>
 void add_per_cell_fields(nlohmann::json& record, const grid::Multigrid<Dim, Scalar>& mg) {
   const grid::Level<Dim, Scalar>& finest = mg.finest();
@@ -144,7 +144,7 @@ void add_per_cell_fields(nlohmann::json& record, const grid::Multigrid<Dim, Scal
   const auto& runs = finest.band_runs;
   record["active_cells"] = cells;
   record["ns_per_active_cell"] = record["vcycle_seconds"].get<double>() / cells * 1e9;
-  record["bytes_per_active_cell"] = static_cast<double>(mg.bytes()) / cells;
+  record["bytes_per_active_cell"] = record["working_set_bytes"].get<double>() / cells;
   record["band_rows_per_active_cell"] = static_cast<double>(finest.band_kernel.rows()) / cells;
   record["band_relaxations_in_runs"] = runs.row_relaxations > 0
                                            ? static_cast<double>(runs.row_relaxations_in_runs) /
@@ -157,8 +157,8 @@ template <int Dim, typename Scalar>
 void add_cycle_fields(nlohmann::json& record, const grid::Multigrid<Dim, Scalar>& mg,
                       const grid::SolveReport& report, double triad_gb_per_s) {
   record["vcycle_seconds"] = report.seconds / std::max(1, report.cycles());
-  add_per_cell_fields(record, mg);
   record["working_set_bytes"] = mg.bytes();
+  add_per_cell_fields(record, mg);
   record["memory_breakdown"] = memory_breakdown_json(mg);
   record["threads"] = thread_count();
   record["peak_rss_bytes"] = peak_resident_bytes();
