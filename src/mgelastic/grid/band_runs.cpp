@@ -155,6 +155,25 @@ std::array<int, Dim> across_order(const Level<Dim, Scalar>& level, const Step<Di
   return key;
 }
 
+// The sweeps read only the shapes of runs. Every step got a shape while the runs were found; on a
+// curved band most steps are off the runs with shapes of their own (armadillo at 256: ~90 % of
+// the shapes, 16.8 of its 350 bytes per unknown), so those are dropped and the runs renumbered.
+template <int Dim, typename Scalar>
+void drop_shapes_off_runs(BandRuns<Dim, Scalar>& runs) {
+  std::vector<std::uint32_t> kept(runs.shapes.size(), UINT32_MAX);
+  std::vector<BandRunShape<Dim, Scalar>> shapes;
+  for (BandRun& run : runs.runs) {
+    if (kept[run.shape] == UINT32_MAX) {
+      kept[run.shape] = static_cast<std::uint32_t>(shapes.size());
+      shapes.push_back(runs.shapes[run.shape]);
+    }
+    run.shape = kept[run.shape];
+  }
+  runs.shapes = std::move(shapes);
+  runs.runs.shrink_to_fit();  // grown by push_back: up to half of each allocation unused
+  runs.rows.shrink_to_fit();
+}
+
 }  // namespace
 
 template <int Dim, typename Scalar>
@@ -285,6 +304,7 @@ void build_band_runs(Level<Dim, Scalar>& level) {
       }
     }
   }
+  drop_shapes_off_runs(runs);
   runs.band_rows = level.band_kernel.rows();
   level.band_runs = std::move(runs);
 }
