@@ -565,8 +565,8 @@ std::vector<ByteShare> Level<Dim, Scalar>::byte_breakdown() const {
   std::size_t fields = 0, kinds = 0, relaxations = 0;
   for (int f = 0; f <= Dim; ++f) {
     fields += sum(x[f], b[f], r[f]);
-    kinds += vector_bytes(kind[f]);
-    relaxations += vector_bytes(relaxation[f]);
+    if (kind.owns()) kinds += vector_bytes(kind[f]);  // else the level it shares them with counts
+    if (relaxation.owns()) relaxations += vector_bytes(relaxation[f]);
   }
   std::size_t schedules = sum(pre_restriction_rows, post_prolongation_rows);
   for (const auto& color : band_schedule)

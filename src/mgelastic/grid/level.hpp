@@ -29,6 +29,7 @@
 #include "mgelastic/grid/block_partition.hpp"
 #include "mgelastic/grid/lattice.hpp"
 #include "mgelastic/grid/material.hpp"
+#include "mgelastic/grid/shared_field_arrays.hpp"
 
 namespace mgelastic::grid {
 
@@ -127,8 +128,10 @@ struct Level {
   // coarsening.hpp), else 0; only these faces clamp at the finest depth.
   std::vector<std::uint8_t> dirichlet_wall_layers;
   std::array<std::vector<Scalar>, Dim + 1> x, b, r;
-  std::array<std::vector<VarKind>, Dim + 1> kind;
-  std::array<std::vector<Relaxation>, Dim + 1> relaxation;
+  // One byte per variable and field each; the double solution level of a mixed-precision solve
+  // shares them with the float finest level (shared_field_arrays.hpp).
+  SharedFieldArrays<VarKind, Dim + 1> kind;
+  SharedFieldArrays<Relaxation, Dim + 1> relaxation;
 
   // Boundary band (Sec. 5.3): momentum rows relaxed by Gauss-Seidel on the Schur complement
   // L_phi - G D_p^-1 G^T, and the pressure rows eliminated there (updated exactly).

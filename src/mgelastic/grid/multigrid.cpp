@@ -80,6 +80,16 @@ void release_sweep_data(Level<Dim, double>& level) {
   drop_band_csr(level);
 }
 
+// The solution level is built from the finest level's lattice and typing, so its variable kinds
+// and relaxation classes are the float level's; it reads those instead of a second copy (checked,
+// so a typing that differed would keep its own).
+template <int Dim, typename Scalar>
+void share_variable_codes(const Level<Dim, Scalar>& fine, Level<Dim, double>& solution) {
+  if (solution.kind.same_values(fine.kind)) solution.kind.share_from(fine.kind);
+  if (solution.relaxation.same_values(fine.relaxation))
+    solution.relaxation.share_from(fine.relaxation);
+}
+
 // x into the finest level's unknowns (rounded to float in single precision).
 template <std::size_t Fields, typename T>
 void copy_solution_state(const std::array<std::vector<double>, Fields>& x,
@@ -212,6 +222,7 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
         lattices[0], cells[0], problem.material, problem.boundary_stress,
         lattices.size() > 1 ? &cells[1] : nullptr, problem.inertia, m_options.band_layers));
     release_sweep_data(*m_solution);
+    share_variable_codes(m_levels.front(), *m_solution);
     set_dirichlet_values(*m_solution, problem.dirichlet_displacement);
     write_load_right_hand_side(problem, *m_solution);
     back_substitute_traction(*m_solution);
