@@ -34,6 +34,27 @@ TEST(MultigridSetup, NewDirichletDisplacementMatchesAFreshSolve) {
   EXPECT_LT(max_difference(reused, fresh), 1e-8);
 }
 
+// Mixed precision: the double solution level reads the float finest level's variable kinds and
+// relaxation classes (one copy, counted once), and a copied level owns its own again.
+TEST(MultigridSetup, SolutionLevelSharesTheFinestLevelsVariableCodes) {
+  const ElasticityProblem<3> problem = make_box_problem<3>({.cells = 16, .poisson_ratio = 0.45});
+  Multigrid<3, float> mg(problem);
+  const Level<3, float>& fine = mg.finest();
+  const Level<3, double>& solution = mg.solution_level();
+  for (int f = 0; f <= 3; ++f) {
+    EXPECT_EQ(solution.kind[f].data(), fine.kind[f].data()) << f;
+    EXPECT_EQ(solution.relaxation[f].data(), fine.relaxation[f].data()) << f;
+  }
+  for (const ByteShare& share : solution.byte_breakdown())
+    if (share.name == "kind" || share.name == "relaxation") EXPECT_EQ(share.bytes, 0u);
+  Level<3, double> copy = solution;
+  ASSERT_EQ(copy.kind[0], fine.kind[0]);
+  EXPECT_NE(copy.kind[0].data(), fine.kind[0].data());
+  copy.kind[0][0] = VarKind::INTERIOR;
+  EXPECT_EQ(fine.kind[0][0], VarKind::INACTIVE);  // the corner ghost point
+  EXPECT_TRUE(mg.solve(1e-8, 30).converged);
+}
+
 // A plate 64 x 64 x 8 cells, held along one edge: its 16 x 16 x 2 level is all boundary cells
 // (traction boundaries half a coarse cell inside a body two cells thick), so the hierarchy stops
 // one level finer, which also converges faster (0.21 per cycle against 0.29).
