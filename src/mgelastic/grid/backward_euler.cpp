@@ -150,7 +150,7 @@ void BackwardEuler<Dim, Scalar>::set_loads(ElasticityProblem<Dim> problem) {
 template <int Dim, typename Scalar>
 void BackwardEuler<Dim, Scalar>::assemble_right_hand_side(Level<Dim, double>& level) {
   if (m_options.damping > 0) {
-    for (auto& b : level.b) std::fill(b.begin(), b.end(), 0.0);
+    for (auto& b : level.b) zero_live(b, level.live);
     compute_residual(level);
   }
   write_step_right_hand_side<Dim>(level, m_static_rhs, m_velocity, m_options, m_inertia);

@@ -48,7 +48,7 @@ template <int Dim>
 void CorotatedBackwardEuler<Dim>::assemble_right_hand_side() {
   Level<Dim, double>& level = m_multigrid.solution_level();
   if (m_options.damping > 0) {
-    for (auto& b : level.b) std::fill(b.begin(), b.end(), 0.0);
+    for (auto& b : level.b) zero_live(b, level.live);
     m_multigrid.nonlinear_residual();
   }
   write_step_right_hand_side<Dim>(level, m_static_rhs, m_velocity, m_options, m_inertia);

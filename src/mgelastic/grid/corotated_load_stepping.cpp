@@ -131,7 +131,7 @@ CorotatedReport CorotatedMultigrid<Dim>::solve_with_load_steps(double relative_t
                   std::to_string(static_cast<int>(kIncrementGrowth)) +
                   "-fold within a load increment of 1/" + std::to_string(kMaxLoadIncrements) +
                   " of the load (at " + std::to_string(s) + " of it)");
-    m_multigrid.level(0).x = accepted;
+    assign_live(m_multigrid.level(0).x, accepted, m_multigrid.level(0).live);
     ds /= 2;
   }
   report.seconds = timer.seconds();

@@ -484,7 +484,7 @@ double corotated_residual(Level<Dim, double>& level, const std::vector<Matrix<Di
           stress[i * Dim + j][k] = builder.shear_stress(i, j, k);
       }
     }
-  for (auto& field : level.r) std::fill(field.begin(), field.end(), 0.0);
+  for (auto& field : level.r) zero_live(field, level.live);
   const std::vector<std::uint32_t> targets = row_targets(level);
   const auto count = static_cast<std::ptrdiff_t>(targets.size());
   const auto size = static_cast<std::size_t>(n);
@@ -535,7 +535,7 @@ std::optional<double> corotated_stress(const Level<Dim, double>& level,
 
 template <int Dim>
 double corotated_residual(Level<Dim, double>& level, const CorotatedRows& rows) {
-  for (auto& field : level.r) std::fill(field.begin(), field.end(), 0.0);
+  for (auto& field : level.r) zero_live(field, level.live);
   const auto count = static_cast<std::ptrdiff_t>(rows.rows());
   const std::size_t n = level.size();
   double sum = 0.0;

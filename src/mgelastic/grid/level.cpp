@@ -564,7 +564,8 @@ std::vector<ByteShare> Level<Dim, Scalar>::byte_breakdown() const {
   };
   std::size_t fields = 0, kinds = 0, relaxations = 0;
   for (int f = 0; f <= Dim; ++f) {
-    fields += sum(x[f], b[f], r[f]);
+    for (const auto* field : {&x[f], &b[f], &r[f]})
+      fields += vector_bytes(*field) - dead_page_bytes(*field, live);
     if (kind.owns()) kinds += vector_bytes(kind[f]);  // else the level it shares them with counts
     if (relaxation.owns()) relaxations += vector_bytes(relaxation[f]);
   }
@@ -639,7 +640,8 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
                                const std::vector<CellType>* coarse_cells, double inertia,
                                int band_layers, std::vector<double> cell_weight,
                                double dirichlet_zero_depth,
-                               std::vector<std::uint8_t> dirichlet_wall_layers) {
+                               std::vector<std::uint8_t> dirichlet_wall_layers,
+                               bool release_dead_pages) {
   Level<Dim, Scalar> level;
   level.dirichlet_zero_depth = dirichlet_zero_depth;
   level.dirichlet_wall_layers = std::move(dirichlet_wall_layers);
@@ -652,9 +654,6 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(lattice.size());
   const Classifier<Dim> classifier{level.lattice, level.cells};
   for (int f = 0; f <= Dim; ++f) {
-    assign_on_huge_pages(level.x[f], n, Scalar(0));
-    assign_on_huge_pages(level.b[f], n, Scalar(0));
-    assign_on_huge_pages(level.r[f], n, Scalar(0));
     assign_on_huge_pages(level.kind[f], n, VarKind::INACTIVE);
     assign_on_huge_pages(level.relaxation[f], n, Relaxation::NONE);
   }
@@ -663,6 +662,12 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
     if (classifier.interior(k)) level.kind[Dim][k] = VarKind::INTERIOR;
   }
   mark_traction_variables(level);
+  // Traction marking is the last change of INACTIVE: the live chunks are final here, and the
+  // fields are allocated one array at a time with their dead pages released at once.
+  if (release_dead_pages) level.live = find_live_chunks<Dim>(level.lattice, level.kind);
+  for (int f = 0; f <= Dim; ++f)
+    for (auto* field : {&level.x[f], &level.b[f], &level.r[f]})
+      assign_zeros_sparse(*field, n, level.live);
   std::vector<std::uint8_t> pre(Dim * n, 0), post(Dim * n, 0);
   classify_relaxation(level, coarse_cells, pre, post, band_layers);
   const RowBuilder<Dim> builder(level.lattice, level.cells, material.mu(), sigma, inertia,
@@ -691,13 +696,13 @@ void set_dirichlet_values(Level<Dim, Scalar>& level,
   }
 }
 
-#define MGELASTIC_INSTANTIATE(D, S)                                                               \
-  template struct Level<D, S>;                                                                    \
-  template Level<D, S> build_level<D, S>(const Lattice<D>&, std::vector<CellType>,                \
-                                         const Material&, const BoundaryStress<D>&,               \
-                                         const std::vector<CellType>*, double, int,               \
-                                         std::vector<double>, double, std::vector<std::uint8_t>); \
-  template void set_dirichlet_values<D, S>(Level<D, S>&,                                          \
+#define MGELASTIC_INSTANTIATE(D, S)                                                        \
+  template struct Level<D, S>;                                                             \
+  template Level<D, S> build_level<D, S>(                                                  \
+      const Lattice<D>&, std::vector<CellType>, const Material&, const BoundaryStress<D>&, \
+      const std::vector<CellType>*, double, int, std::vector<double>, double,              \
+      std::vector<std::uint8_t>, bool);                                                    \
+  template void set_dirichlet_values<D, S>(Level<D, S>&,                                   \
                                            const std::function<Vec<D>(const Vec<D>&)>&);
 MGELASTIC_INSTANTIATE(2, float)
 MGELASTIC_INSTANTIATE(2, double)

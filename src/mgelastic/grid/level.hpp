@@ -28,6 +28,7 @@
 #include "mgelastic/grid/band_runs.hpp"
 #include "mgelastic/grid/block_partition.hpp"
 #include "mgelastic/grid/lattice.hpp"
+#include "mgelastic/grid/live_chunks.hpp"
 #include "mgelastic/grid/material.hpp"
 #include "mgelastic/grid/shared_field_arrays.hpp"
 
@@ -128,6 +129,9 @@ struct Level {
   // coarsening.hpp), else 0; only these faces clamp at the finest depth.
   std::vector<std::uint8_t> dirichlet_wall_layers;
   std::array<std::vector<Scalar>, Dim + 1> x, b, r;
+  // The stretches of x, b and r that hold or border a variable (live_chunks.hpp); outside them
+  // the fields are zero with their pages released, and the passes over whole arrays skip them.
+  LiveChunks live;
   // One byte per variable and field each; the double solution level of a mixed-precision solve
   // shares them with the float finest level (shared_field_arrays.hpp).
   SharedFieldArrays<VarKind, Dim + 1> kind;
@@ -212,7 +216,8 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
                                const std::vector<CellType>* coarse_cells, double inertia = 0.0,
                                int band_layers = 0, std::vector<double> cell_weight = {},
                                double dirichlet_zero_depth = 0.0,
-                               std::vector<std::uint8_t> dirichlet_wall_layers = {});
+                               std::vector<std::uint8_t> dirichlet_wall_layers = {},
+                               bool release_dead_pages = true);
 
 // Writes prescribed displacements into every Dirichlet variable of the level.
 template <int Dim, typename Scalar>

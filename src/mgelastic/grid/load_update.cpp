@@ -77,7 +77,7 @@ bool same_lattice(const Lattice<Dim>& a, const Lattice<Dim>& b) {
 
 template <int Dim, typename Scalar>
 void write_load_right_hand_side(const ElasticityProblem<Dim>& problem, Level<Dim, Scalar>& level) {
-  for (auto& b : level.b) std::fill(b.begin(), b.end(), Scalar(0));
+  for (auto& b : level.b) zero_live(b, level.live);
   for (const VariableLoad& load : problem.variable_loads)
     level.b[load.component][load.face] -= static_cast<Scalar>(load.density);
   if (!problem.body_force) return;

@@ -90,17 +90,24 @@ void share_variable_codes(const Level<Dim, Scalar>& fine, Level<Dim, double>& so
     solution.relaxation.share_from(fine.relaxation);
 }
 
-// x into the finest level's unknowns (rounded to float in single precision).
+// x into the finest level's unknowns (rounded to float in single precision), its live chunks only
+// (live_chunks.hpp: the rest holds no variable and stays zero, with its pages released).
 template <std::size_t Fields, typename T>
 void copy_solution_state(const std::array<std::vector<double>, Fields>& x,
-                         std::array<std::vector<T>, Fields>& fields) {
+                         std::array<std::vector<T>, Fields>& fields, const LiveChunks& live) {
   for (std::size_t f = 0; f < Fields; ++f)
     if (x[f].size() != fields[f].size())
       throw Error("solution state field " + std::to_string(f) + " has " +
                       std::to_string(x[f].size()) + " values, the finest level has " +
                       std::to_string(fields[f].size()),
                   {.pointer = "solution state"});
-  for (std::size_t f = 0; f < Fields; ++f) std::copy(x[f].begin(), x[f].end(), fields[f].begin());
+  for (std::size_t f = 0; f < Fields; ++f) {
+    const auto n = static_cast<std::ptrdiff_t>(x[f].size());
+    for (std::ptrdiff_t begin = 0; begin < n; begin += kLiveChunk)
+      if (live.any_live(begin, begin + 1))
+        std::copy(x[f].begin() + begin, x[f].begin() + std::min(n, begin + kLiveChunk),
+                  fields[f].begin() + begin);
+  }
 }
 
 // Mixed precision: the float level solves L e = r with a zero initial correction; r is already
@@ -109,10 +116,14 @@ void copy_solution_state(const std::array<std::vector<double>, Fields>& x,
 template <int Dim, typename Scalar>
 void zero_correction(Level<Dim, Scalar>& fine) {
   const auto size = static_cast<std::ptrdiff_t>(fine.size());
+  const std::ptrdiff_t chunks = (size + kLiveChunk - 1) / kLiveChunk;
   for (int f = 0; f <= Dim; ++f) {
     Scalar* x = fine.x[f].data();
 #pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t k = 0; k < size; ++k) x[k] = Scalar(0);
+    for (std::ptrdiff_t c = 0; c < chunks; ++c) {
+      const std::ptrdiff_t begin = c * kLiveChunk;
+      zero_live(x, begin, std::min(begin + kLiveChunk, size), fine.live);
+    }
   }
 }
 
@@ -136,10 +147,12 @@ void add_correction(const Level<Dim, Scalar>& fine, Level<Dim, double>& solution
     // Chunks without an INTERIOR variable (outside an embedded body) are skipped; inside one the
     // add always runs and only its operand is selected (a conditional add would be a branch
     // under -ftrapping-math and keep the loop scalar); x + 0 leaves every other x as it was.
-    constexpr std::ptrdiff_t chunk = 1024;
+    // The chunks are the live chunks' (live_chunks.hpp), so no dead page is written.
+    constexpr std::ptrdiff_t chunk = kLiveChunk;
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t begin = 0; begin < size; begin += chunk) {
       const std::ptrdiff_t end = std::min(begin + chunk, size);
+      if (!solution.live.any_live(begin, end)) continue;
       if (!any_equal(kind + begin, end - begin, VarKind::INTERIOR)) continue;
       for (std::ptrdiff_t k = begin; k < end; ++k)
         x[k] += kind[k] == VarKind::INTERIOR ? static_cast<double>(e[k]) : 0.0;
@@ -218,9 +231,10 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
     }
   }
   if (mixed_precision()) {
-    m_solution = std::make_unique<Level<Dim, double>>(build_level<Dim, double>(
-        lattices[0], cells[0], problem.material, problem.boundary_stress,
-        lattices.size() > 1 ? &cells[1] : nullptr, problem.inertia, m_options.band_layers));
+    m_solution = std::make_unique<Level<Dim, double>>(
+        build_level<Dim, double>(lattices[0], cells[0], problem.material, problem.boundary_stress,
+                                 lattices.size() > 1 ? &cells[1] : nullptr, problem.inertia,
+                                 m_options.band_layers, {}, 0.0, {}, m_options.release_dead_pages));
     release_sweep_data(*m_solution);
     share_variable_codes(m_levels.front(), *m_solution);
     set_dirichlet_values(*m_solution, problem.dirichlet_displacement);
@@ -251,7 +265,8 @@ void Multigrid<Dim, Scalar>::build_levels(const ElasticityProblem<Dim>& problem,
         clamp ? 0.5 * problem.lattice.h : 0.0,
         clamp ? finest_dirichlet_wall_layers(problem.lattice, problem.cells, lattices[l], cells[l],
                                              1 << l, m_options.misaligned_dirichlet_depth)
-              : std::vector<std::uint8_t>{}));
+              : std::vector<std::uint8_t>{},
+        m_options.release_dead_pages));
   }
 }
 
@@ -477,21 +492,35 @@ void Multigrid<Dim, Scalar>::fail_diverged(const std::string& what, const std::s
 
 template <int Dim, typename Scalar>
 auto Multigrid<Dim, Scalar>::capture_start() const -> StartState {
+  // The live chunks only (live_chunks.hpp): a copy of the whole box would fault in every page of
+  // the copy and read the released pages of the source, each a page fault (on the armadillo at
+  // 256 this took 1.3 s per solve on a virtual machine).
   StartState start;
+  start.packed = true;
   if (single_precision()) {
-    start.single = m_levels.front().x;
+    for (int f = 0; f <= Dim; ++f)
+      start.single[f] = pack_live(m_levels.front().x[f], m_levels.front().live);
+  } else if (m_solution) {
+    for (int f = 0; f <= Dim; ++f)
+      start.solution[f] = pack_live(m_solution->x[f], m_solution->live);
   } else {
     start.solution = solution_state();
+    start.packed = false;
   }
   return start;
 }
 
 template <int Dim, typename Scalar>
 void Multigrid<Dim, Scalar>::restore_start(const StartState& start) {
-  if (single_precision()) {
-    m_levels.front().x = start.single;
-  } else {
+  if (!start.packed) {
     set_solution_state(start.solution);
+  } else if (single_precision()) {
+    for (int f = 0; f <= Dim; ++f)
+      unpack_live(start.single[f], m_levels.front().x[f], m_levels.front().live);
+  } else {
+    for (int f = 0; f <= Dim; ++f)
+      unpack_live(start.solution[f], m_solution->x[f], m_solution->live);
+    m_solution_residual_current = false;
   }
 }
 
@@ -510,9 +539,9 @@ auto Multigrid<Dim, Scalar>::solution_state() const -> const SolutionState& {
 template <int Dim, typename Scalar>
 void Multigrid<Dim, Scalar>::set_solution_state(const SolutionState& x) {
   if (single_precision()) {
-    copy_solution_state(x, m_levels.front().x);
+    copy_solution_state(x, m_levels.front().x, m_levels.front().live);
   } else {
-    copy_solution_state(x, solution_level().x);
+    copy_solution_state(x, solution_level().x, solution_level().live);
   }
   m_solution_residual_current = false;
 }

@@ -69,6 +69,10 @@ struct MultigridOptions {
   // eps (L/h)^2 (3.7e-3 at 128^3) and solution_level() (time integrators, FGMRES) is
   // unavailable.
   bool mixed_precision = true;
+  // Hand the pages of the fields that hold no variable (most of an embedded body's bounding
+  // box) back to the operating system and skip them in whole-array passes (live_chunks.hpp).
+  // The same results either way; false is for comparisons.
+  bool release_dead_pages = true;
 };
 
 int default_boundary_sweeps(double poisson_ratio);
@@ -202,6 +206,7 @@ class Multigrid {
   struct StartState {
     SolutionState solution;
     std::array<std::vector<Scalar>, Dim + 1> single;
+    bool packed = false;  // the arrays hold the live chunks only (live_chunks.hpp: pack_live)
   };
   StartState capture_start() const;
   void restore_start(const StartState& start);

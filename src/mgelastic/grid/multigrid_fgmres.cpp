@@ -71,8 +71,8 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
   // The operator without boundary data: A z = r(0) - r(z) with b = 0 and zero Dirichlet values.
   auto load = [&](const Eigen::VectorXd& z) {
     for (int f = 0; f <= Dim; ++f) {
-      std::fill(s.x[f].begin(), s.x[f].end(), 0.0);
-      std::fill(s.b[f].begin(), s.b[f].end(), 0.0);
+      zero_live(s.x[f], s.live);
+      zero_live(s.b[f], s.live);
     }
     for_each_interior(s, [&](int f, std::size_t k, std::size_t g) { s.x[f][k] = z[g]; });
   };
@@ -84,8 +84,8 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
   };
   auto apply_preconditioner = [&](const Eigen::VectorXd& v) {
     for (int f = 0; f <= Dim; ++f) {
-      std::fill(fine.x[f].begin(), fine.x[f].end(), Scalar(0));
-      std::fill(fine.b[f].begin(), fine.b[f].end(), Scalar(0));
+      zero_live(fine.x[f], fine.live);
+      zero_live(fine.b[f], fine.live);
     }
     for_each_interior(fine, [&](int f, std::size_t k, std::size_t g) {
       fine.b[f][k] = static_cast<Scalar>(v[g]);
@@ -97,8 +97,8 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
   };
   // True residual of the current x (with the real boundary data).
   auto true_residual = [&]() {
-    s.x = saved_x;
-    s.b = saved_b;
+    assign_live(s.x, saved_x, s.live);
+    assign_live(s.b, saved_b, s.live);
     for_each_interior(s, [&](int f, std::size_t k, std::size_t g) { s.x[f][k] = x[g]; });
     back_substitute_traction(s);
     return residual_vector(s);
@@ -111,7 +111,7 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
   const double target = relative_tolerance * report.residuals.front();
   // Divergence: back to the start (s.b was cleared for the operator), then a checked replay.
   const auto diverged = [&](const std::string& reason) {
-    s.b = saved_b;
+    assign_live(s.b, saved_b, s.live);
     fail_diverged("the accelerated solve (FGMRES) at cycle " + std::to_string(report.cycles()),
                   reason, report.residuals, StartState{.solution = saved_x, .single = {}});
   };

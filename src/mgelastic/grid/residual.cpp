@@ -11,7 +11,8 @@ namespace {
 
 // Entries per chunk of the stencil residual: the chunk's Dim + 1 residual rows (16 KiB in
 // double at Dim = 3) stay in L1 between the evaluation and the masked copy.
-constexpr std::ptrdiff_t residual_chunk = 512;
+constexpr std::ptrdiff_t residual_chunk = kLiveChunk;
+static_assert(residual_chunk == 512);
 
 // sum_{i < n} term(i) in eight partial sums, added pairwise at the end: a fixed order (the same
 // value for any thread count) without one chain of dependent adds (~4 cycles per entry, which
@@ -66,15 +67,20 @@ void stencil_residual(const Level<Dim, Scalar>& level, const std::array<const Sc
   const auto n = static_cast<std::ptrdiff_t>(level.size());
   const std::ptrdiff_t lo = std::min(s[Dim - 1], n), hi = std::max(n - s[Dim - 1], lo);
   for (int f = 0; f <= Dim; ++f) {
-    std::fill(r[f], r[f] + lo, Out(0));
-    std::fill(r[f] + hi, r[f] + n, Out(0));
+    zero_live(r[f], 0, lo, level.live);
+    zero_live(r[f], hi, n, level.live);
   }
-  const std::ptrdiff_t chunks = (hi - lo + residual_chunk - 1) / residual_chunk;
-  if (chunk_squares) chunk_squares->assign(static_cast<std::size_t>(chunks), 0.0);
+  // Chunk q covers [q c, (q + 1) c) of the flat index clipped to [lo, hi), c = residual_chunk =
+  // kLiveChunk: a dead chunk (live_chunks.hpp) is skipped, its r already zero.
+  const std::ptrdiff_t first_chunk = lo / residual_chunk;
+  const std::ptrdiff_t chunks = (hi + residual_chunk - 1) / residual_chunk - first_chunk;
+  if (chunk_squares)
+    chunk_squares->assign(static_cast<std::size_t>(std::max<std::ptrdiff_t>(chunks, 0)), 0.0);
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t q = 0; q < chunks; ++q) {
-    const std::ptrdiff_t begin = lo + q * residual_chunk;
-    const std::ptrdiff_t m = std::min(residual_chunk, hi - begin);
+    const std::ptrdiff_t begin = std::max(lo, (first_chunk + q) * residual_chunk);
+    const std::ptrdiff_t m = std::min((first_chunk + q + 1) * residual_chunk, hi) - begin;
+    if (m <= 0 || !level.live.any_live(begin, begin + m)) continue;
     if (!any_distributive<Dim>(relax, begin, m)) {
       // Outside an embedded body (most of its bounding box) a chunk holds no stencil row: its
       // residuals are zero (as the select below would give) without reading x and b.
@@ -158,7 +164,7 @@ void band_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Dim +
 // Sums of squares over fixed chunks in parallel, added in chunk order: the same value for any
 // thread count.
 template <int Dim, typename T>
-double norm_of(const std::array<const T*, Dim + 1>& r, std::size_t size) {
+double norm_of(const std::array<const T*, Dim + 1>& r, std::size_t size, const LiveChunks& live) {
   constexpr std::ptrdiff_t chunk = 1 << 14;
   const auto n = static_cast<std::ptrdiff_t>(size);
   const std::ptrdiff_t chunks_per_field = (n + chunk - 1) / chunk;
@@ -168,6 +174,7 @@ double norm_of(const std::array<const T*, Dim + 1>& r, std::size_t size) {
     const T* field = r[q / chunks_per_field];
     const std::ptrdiff_t begin = (q % chunks_per_field) * chunk;
     const std::ptrdiff_t end = std::min(begin + chunk, n);
+    if (!live.any_live(begin, end)) continue;  // zeros (live_chunks.hpp): partial[q] stays 0
     partial[q] = split_sum(end - begin, [&](std::ptrdiff_t i) {
       return static_cast<double>(field[begin + i]) * field[begin + i];
     });
@@ -214,7 +221,8 @@ void update_residual(Level<Dim, Scalar>& level) {
   // A level may hold no r (Multigrid's double solution level): it is scratch, allocated here.
   std::array<Scalar*, Dim + 1> r;
   for (int f = 0; f <= Dim; ++f) {
-    if (level.r[f].size() != level.size()) level.r[f].assign(level.size(), Scalar(0));
+    if (level.r[f].size() != level.size())
+      assign_zeros_sparse(level.r[f], level.size(), level.live);
     r[f] = level.r[f].data();
   }
   level_residual<Dim, Scalar, Scalar>(level, r, nullptr);
@@ -230,7 +238,7 @@ template <int Dim, typename Scalar>
 double residual_norm(const Level<Dim, Scalar>& level) {
   std::array<const Scalar*, Dim + 1> r;
   for (int f = 0; f <= Dim; ++f) r[f] = level.r[f].data();
-  return norm_of<Dim, Scalar>(r, level.size());
+  return norm_of<Dim, Scalar>(r, level.size(), level.live);
 }
 
 #define MGELASTIC_INSTANTIATE(D, S)                                    \

@@ -175,8 +175,8 @@ void restrict_row_dispatch(const Scalar* r, const OuterRestrictionTaps<Dim>& out
 template <int Dim, typename Scalar>
 void restrict_residual(const Level<Dim, Scalar>& fine, Level<Dim, Scalar>& coarse) {
   for (int field = 0; field <= Dim; ++field) {
-    std::fill(coarse.x[field].begin(), coarse.x[field].end(), Scalar(0));
-    std::fill(coarse.b[field].begin(), coarse.b[field].end(), Scalar(0));
+    zero_live(coarse.x[field], coarse.live);
+    zero_live(coarse.b[field], coarse.live);
     const Scalar* r = fine.r[field].data();
     // Coarse x coordinates whose taps all lie in the fine storage (fast path).
     const int first = 1;

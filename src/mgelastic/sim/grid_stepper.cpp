@@ -188,7 +188,8 @@ class HierarchySolver : public GridStepper::Solver {
   }
   void set_right_hand_side(const std::array<std::vector<double>, 4>& b) override {
     if (!hierarchy().single_precision()) {
-      hierarchy().solution_level().b = b;
+      auto& solution = hierarchy().solution_level();
+      grid::assign_live(solution.b, b, solution.live);
       return;
     }
     auto& finest = hierarchy().level(0).b;

@@ -1,0 +1,137 @@
+#include "mgelastic/grid/live_chunks.hpp"
+
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <numeric>
+
+#include "mgelastic/grid/huge_pages.hpp"
+#include "mgelastic/grid/level.hpp"
+#include "mgelastic/grid/shared_field_arrays.hpp"
+
+namespace mgelastic::grid {
+namespace {
+
+std::uintptr_t page_bytes() {
+  static const auto bytes = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
+  return bytes;
+}
+
+}  // namespace
+
+std::size_t LiveChunks::live_count() const {
+  return static_cast<std::size_t>(std::accumulate(live.begin(), live.end(), std::size_t{0}));
+}
+
+template <int Dim, typename KindArrays>
+LiveChunks find_live_chunks(const Lattice<Dim>& lattice, const KindArrays& kind) {
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(lattice.size());
+  const std::ptrdiff_t row_length = lattice.padded(0);
+  const std::ptrdiff_t rows = n / row_length;
+  // Rows holding a variable, then their neighbours along the other axes.
+  std::vector<std::uint8_t> holds(static_cast<std::size_t>(rows), 0);
+  for (std::ptrdiff_t row = 0; row < rows; ++row) {
+    bool any = false;
+    for (int f = 0; f <= Dim && !any; ++f) {
+      const VarKind* k = kind[f].data() + row * row_length;
+      any = std::any_of(k, k + row_length, [](VarKind v) { return v != VarKind::INACTIVE; });
+    }
+    holds[static_cast<std::size_t>(row)] = any;
+  }
+  std::vector<std::uint8_t> live_row = holds;
+  for (std::ptrdiff_t row = 0; row < rows; ++row) {
+    if (!holds[static_cast<std::size_t>(row)]) continue;
+    for (int a = 1; a < Dim; ++a) {
+      const std::ptrdiff_t step = lattice.stride(a) / row_length;
+      if (row - step >= 0) live_row[static_cast<std::size_t>(row - step)] = 1;
+      if (row + step < rows) live_row[static_cast<std::size_t>(row + step)] = 1;
+    }
+  }
+  LiveChunks chunks;
+  chunks.live.assign(static_cast<std::size_t>((n + kLiveChunk - 1) / kLiveChunk), 0);
+  for (std::ptrdiff_t row = 0; row < rows; ++row) {
+    if (!live_row[static_cast<std::size_t>(row)]) continue;
+    const std::ptrdiff_t begin = row * row_length, end = begin + row_length;
+    for (std::ptrdiff_t c = begin / kLiveChunk; c * kLiveChunk < end; ++c)
+      chunks.live[static_cast<std::size_t>(c)] = 1;
+  }
+  if (chunks.live_count() == chunks.live.size()) chunks.live.clear();
+  return chunks;
+}
+
+namespace {
+
+// Calls dead(p0, p1) for each maximal stretch [p0, p1) of whole pages of [base, base + n
+// elements) that overlaps no live chunk.
+template <typename T, typename F>
+void for_each_dead_stretch(std::uintptr_t base, std::size_t n, const LiveChunks& live, F&& dead) {
+  const std::uintptr_t page = page_bytes();
+  const std::uintptr_t end = base + n * sizeof(T);
+  std::uintptr_t run = 0;  // start of the current stretch, 0 = none
+  std::uintptr_t p = (base + page - 1) & ~(page - 1);
+  for (; p + page <= end; p += page) {
+    const auto e0 = static_cast<std::ptrdiff_t>((p - base) / sizeof(T));
+    const auto e1 = static_cast<std::ptrdiff_t>((p + page - base) / sizeof(T));
+    if (!live.any_live(e0, e1)) {
+      if (run == 0) run = p;
+    } else if (run != 0) {
+      dead(run, p);
+      run = 0;
+    }
+  }
+  if (run != 0) dead(run, p);
+}
+
+}  // namespace
+
+template <typename T>
+std::size_t dead_page_bytes(const std::vector<T>& v, const LiveChunks& live) {
+  if (live.all_live() || v.empty()) return 0;
+  std::size_t bytes = 0;
+  for_each_dead_stretch<T>(reinterpret_cast<std::uintptr_t>(v.data()), v.size(), live,
+                           [&](std::uintptr_t p0, std::uintptr_t p1) { bytes += p1 - p0; });
+  return bytes;
+}
+
+template <typename T>
+void assign_zeros_sparse(std::vector<T>& v, std::size_t n, const LiveChunks& live) {
+  if (live.all_live()) {
+    assign_on_huge_pages(v, n, T(0));
+    return;
+  }
+  v.clear();
+  v.shrink_to_fit();
+  v.reserve(n);
+  const auto base = reinterpret_cast<std::uintptr_t>(v.data());
+  const std::uintptr_t page = page_bytes();
+  const std::uintptr_t end = base + n * sizeof(T);
+  constexpr std::uintptr_t huge = std::uintptr_t{1} << 21;
+  // No huge page may hold a dead page (where the system's THP mode is "always" too): a partly
+  // released huge page keeps its memory until it is split, and khugepaged would fill it again.
+  const std::uintptr_t first_page = (base + page - 1) & ~(page - 1);
+#ifdef MADV_NOHUGEPAGE
+  if (end > first_page)
+    madvise(reinterpret_cast<void*>(first_page), end - first_page, MADV_NOHUGEPAGE);
+#endif
+  for (std::uintptr_t h = (base + huge - 1) & ~(huge - 1); h + huge <= end; h += huge) {
+    const auto e0 = static_cast<std::ptrdiff_t>((h - base) / sizeof(T));
+    const auto e1 = static_cast<std::ptrdiff_t>((h + huge - base) / sizeof(T));
+    bool all = true;
+    for (std::ptrdiff_t c = e0 / kLiveChunk; c * kLiveChunk < e1 && all; ++c)
+      all = live.live[static_cast<std::size_t>(c)] != 0;
+    if (all) advise_huge_pages(reinterpret_cast<void*>(h), huge);
+  }
+  v.assign(n, T(0));
+  for_each_dead_stretch<T>(base, n, live, [](std::uintptr_t p0, std::uintptr_t p1) {
+    madvise(reinterpret_cast<void*>(p0), p1 - p0, MADV_DONTNEED);
+  });
+}
+
+template LiveChunks find_live_chunks<2>(const Lattice<2>&, const SharedFieldArrays<VarKind, 3>&);
+template LiveChunks find_live_chunks<3>(const Lattice<3>&, const SharedFieldArrays<VarKind, 4>&);
+template void assign_zeros_sparse<float>(std::vector<float>&, std::size_t, const LiveChunks&);
+template void assign_zeros_sparse<double>(std::vector<double>&, std::size_t, const LiveChunks&);
+template std::size_t dead_page_bytes<float>(const std::vector<float>&, const LiveChunks&);
+template std::size_t dead_page_bytes<double>(const std::vector<double>&, const LiveChunks&);
+
+}  // namespace mgelastic::grid
