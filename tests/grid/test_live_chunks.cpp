@@ -39,22 +39,18 @@ long written_dead_pages(const std::vector<T>& v, const LiveChunks& live) {
   const int fd = open("/proc/self/pagemap", O_RDONLY);
   if (fd < 0) return -1;
   const auto page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
-  const auto base = reinterpret_cast<std::uintptr_t>(v.data());
-  const std::uintptr_t end = base + v.size() * sizeof(T);
   long written = 0;
-  for (std::uintptr_t p = (base + page - 1) & ~(page - 1); p + page <= end; p += page) {
-    const auto e0 = static_cast<std::ptrdiff_t>((p - base) / sizeof(T));
-    const auto e1 = static_cast<std::ptrdiff_t>((p + page - base) / sizeof(T));
-    if (live.any_live(e0, e1)) continue;
-    std::uint64_t entry = 0;
-    if (pread(fd, &entry, sizeof entry, static_cast<off_t>(p / page * sizeof entry)) !=
-        sizeof entry) {
-      close(fd);
-      return -1;
+  for (const auto& [begin, end] : released_stretches(v, live))
+    for (std::uintptr_t p = begin; p < end; p += page) {
+      std::uint64_t entry = 0;
+      if (pread(fd, &entry, sizeof entry, static_cast<off_t>(p / page * sizeof entry)) !=
+          sizeof entry) {
+        close(fd);
+        return -1;
+      }
+      const bool present = (entry >> 63) & 1, exclusive = (entry >> 56) & 1;
+      written += present && exclusive;
     }
-    const bool present = (entry >> 63) & 1, exclusive = (entry >> 56) & 1;
-    written += present && exclusive;
-  }
   close(fd);
   return written;
 }
@@ -87,9 +83,9 @@ TEST(LiveChunks, HoldEveryVariableAndItsNeighbourRows) {
       for (std::ptrdiff_t d : {std::ptrdiff_t{0}, -sy, sy, -sz, sz})
         if (k + d >= 0 && k + d < n) ASSERT_TRUE(level.live.any_live(k + d, k + d + 1)) << k;
     }
-  std::size_t dead = 0;
-  for (int f = 0; f <= 3; ++f) dead += dead_page_bytes(level.x[f], level.live);
-  EXPECT_GT(dead, 0u);
+  std::size_t released = 0;
+  for (int f = 0; f <= 3; ++f) released += released_bytes(level.x[f], level.live);
+  EXPECT_GT(released, 0u);
 }
 
 // Mixed precision on the ball: the same residuals with and without released pages, the released
@@ -115,9 +111,9 @@ TEST(LiveChunks, ReleasedPagesStayReleasedAndChangeNoResult) {
   for (int l = 0; l < sparse.levels(); ++l) EXPECT_EQ(written_dead_pages(sparse.level(l)), 0) << l;
   // The check sees a write: a zero stored into a released page maps a page of its own.
   Level<3, float>& fine = sparse.level(0);
-  std::ptrdiff_t dead = 0;
-  while (fine.live.any_live(dead, dead + 4096)) dead += 4096;
-  fine.x[0][dead + 2048] = 0.0f;
+  const auto stretches = released_stretches(fine.x[0], fine.live);
+  ASSERT_FALSE(stretches.empty());
+  *reinterpret_cast<float*>(stretches.front().first) = 0.0f;
   EXPECT_GT(written_dead_pages(fine), 0);
   for (int l = 0; l < sparse.levels(); ++l) {
     const Level<3, float>& level = sparse.level(l);

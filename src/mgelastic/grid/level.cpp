@@ -565,7 +565,7 @@ std::vector<ByteShare> Level<Dim, Scalar>::byte_breakdown() const {
   std::size_t fields = 0, kinds = 0, relaxations = 0;
   for (int f = 0; f <= Dim; ++f) {
     for (const auto* field : {&x[f], &b[f], &r[f]})
-      fields += vector_bytes(*field) - dead_page_bytes(*field, live);
+      fields += vector_bytes(*field) - released_bytes(*field, live);
     if (kind.owns()) kinds += vector_bytes(kind[f]);  // else the level it shares them with counts
     if (relaxation.owns()) relaxations += vector_bytes(relaxation[f]);
   }
