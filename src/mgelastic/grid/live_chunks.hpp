@@ -51,37 +51,43 @@ struct LiveChunks {
 template <int Dim, typename KindArrays>
 LiveChunks find_live_chunks(const Lattice<Dim>& lattice, const KindArrays& kind);
 
+// Calls visit(lo, hi) for the part [lo, hi) of each live chunk inside [begin, end), in order.
+template <typename Visit>
+void for_each_live_chunk(const LiveChunks& live, std::ptrdiff_t begin, std::ptrdiff_t end,
+                         Visit&& visit) {
+  for (std::ptrdiff_t c = begin / kLiveChunk; c * kLiveChunk < end; ++c)
+    if (live.all_live() || live.live[static_cast<std::size_t>(c)])
+      visit(std::max(begin, c * kLiveChunk), std::min(end, (c + 1) * kLiveChunk));
+}
+
 // Zeroes [begin, end) of v except its dead chunks (which hold zeros already).
 template <typename T>
 void zero_live(T* v, std::ptrdiff_t begin, std::ptrdiff_t end, const LiveChunks& live) {
-  const std::ptrdiff_t first = begin / kLiveChunk;
-  for (std::ptrdiff_t c = first; c * kLiveChunk < end; ++c) {
-    if (!live.all_live() && !live.live[static_cast<std::size_t>(c)]) continue;
-    const std::ptrdiff_t lo = std::max(begin, c * kLiveChunk);
-    std::fill(v + lo, v + std::min(end, (c + 1) * kLiveChunk), T(0));
-  }
+  for_each_live_chunk(live, begin, end, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    std::fill(v + lo, v + hi, T(0));
+  });
 }
 template <typename T>
 void zero_live(std::vector<T>& v, const LiveChunks& live) {
   zero_live(v.data(), 0, static_cast<std::ptrdiff_t>(v.size()), live);
 }
 
-// dst = src for arrays of one level: only the live chunks are copied where the sizes match (src
-// is zero in the dead ones, by the invariant above), so dst's released pages stay released.
-template <typename T>
-void assign_live(std::vector<T>& dst, const std::vector<T>& src, const LiveChunks& live) {
-  if (live.all_live() || dst.size() != src.size()) {
-    dst = src;
+// dst = src (converted to dst's type) for arrays of one level: where the sizes match only the
+// live chunks are copied (src is zero in the dead ones, by the invariant above), so dst's
+// released pages stay released.
+template <typename T, typename S>
+void assign_live(std::vector<T>& dst, const std::vector<S>& src, const LiveChunks& live) {
+  if (dst.size() != src.size()) {
+    dst.assign(src.begin(), src.end());
     return;
   }
-  const auto n = static_cast<std::ptrdiff_t>(src.size());
-  for (std::ptrdiff_t c = 0; c * kLiveChunk < n; ++c)
-    if (live.live[static_cast<std::size_t>(c)])
-      std::copy(src.begin() + c * kLiveChunk, src.begin() + std::min(n, (c + 1) * kLiveChunk),
-                dst.begin() + c * kLiveChunk);
+  for_each_live_chunk(live, 0, static_cast<std::ptrdiff_t>(src.size()),
+                      [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+                        std::copy(src.begin() + lo, src.begin() + hi, dst.begin() + lo);
+                      });
 }
-template <typename T, std::size_t N>
-void assign_live(std::array<std::vector<T>, N>& dst, const std::array<std::vector<T>, N>& src,
+template <typename T, typename S, std::size_t N>
+void assign_live(std::array<std::vector<T>, N>& dst, const std::array<std::vector<S>, N>& src,
                  const LiveChunks& live) {
   for (std::size_t f = 0; f < N; ++f) assign_live(dst[f], src[f], live);
 }
@@ -91,30 +97,23 @@ template <typename T>
 std::vector<T> pack_live(const std::vector<T>& v, const LiveChunks& live) {
   if (live.all_live()) return v;
   std::vector<T> packed;
-  const auto n = static_cast<std::ptrdiff_t>(v.size());
   packed.reserve(live.live_count() * kLiveChunk);
-  for (std::ptrdiff_t c = 0; c * kLiveChunk < n; ++c)
-    if (live.live[static_cast<std::size_t>(c)])
-      packed.insert(packed.end(), v.begin() + c * kLiveChunk,
-                    v.begin() + std::min(n, (c + 1) * kLiveChunk));
+  for_each_live_chunk(live, 0, static_cast<std::ptrdiff_t>(v.size()),
+                      [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+                        packed.insert(packed.end(), v.begin() + lo, v.begin() + hi);
+                      });
   return packed;
 }
 
 // v's live chunks from pack_live's result (the dead ones are zero already).
 template <typename T>
 void unpack_live(const std::vector<T>& packed, std::vector<T>& v, const LiveChunks& live) {
-  if (live.all_live()) {
-    v = packed;
-    return;
-  }
-  const auto n = static_cast<std::ptrdiff_t>(v.size());
   auto from = packed.begin();
-  for (std::ptrdiff_t c = 0; c * kLiveChunk < n; ++c) {
-    if (!live.live[static_cast<std::size_t>(c)]) continue;
-    const std::ptrdiff_t m = std::min(n, (c + 1) * kLiveChunk) - c * kLiveChunk;
-    std::copy(from, from + m, v.begin() + c * kLiveChunk);
-    from += m;
-  }
+  for_each_live_chunk(live, 0, static_cast<std::ptrdiff_t>(v.size()),
+                      [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+                        std::copy(from, from + (hi - lo), v.begin() + lo);
+                        from += hi - lo;
+                      });
 }
 
 // v.assign(n, 0) with the pages of released_stretches handed back (huge pages elsewhere).

@@ -101,13 +101,7 @@ void copy_solution_state(const std::array<std::vector<double>, Fields>& x,
                       std::to_string(x[f].size()) + " values, the finest level has " +
                       std::to_string(fields[f].size()),
                   {.pointer = "solution state"});
-  for (std::size_t f = 0; f < Fields; ++f) {
-    const auto n = static_cast<std::ptrdiff_t>(x[f].size());
-    for (std::ptrdiff_t begin = 0; begin < n; begin += kLiveChunk)
-      if (live.any_live(begin, begin + 1))
-        std::copy(x[f].begin() + begin, x[f].begin() + std::min(n, begin + kLiveChunk),
-                  fields[f].begin() + begin);
-  }
+  assign_live(fields, x, live);
 }
 
 // Mixed precision: the float level solves L e = r with a zero initial correction; r is already
@@ -116,13 +110,13 @@ void copy_solution_state(const std::array<std::vector<double>, Fields>& x,
 template <int Dim, typename Scalar>
 void zero_correction(Level<Dim, Scalar>& fine) {
   const auto size = static_cast<std::ptrdiff_t>(fine.size());
-  const std::ptrdiff_t chunks = (size + kLiveChunk - 1) / kLiveChunk;
   for (int f = 0; f <= Dim; ++f) {
     Scalar* x = fine.x[f].data();
+    // Live chunks only (live_chunks.hpp: the dead ones hold zeros and no memory).
 #pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t c = 0; c < chunks; ++c) {
-      const std::ptrdiff_t begin = c * kLiveChunk;
-      zero_live(x, begin, std::min(begin + kLiveChunk, size), fine.live);
+    for (std::ptrdiff_t begin = 0; begin < size; begin += kLiveChunk) {
+      const std::ptrdiff_t end = std::min(begin + kLiveChunk, size);
+      if (fine.live.any_live(begin, end)) std::fill(x + begin, x + end, Scalar(0));
     }
   }
 }
