@@ -18,10 +18,13 @@ TEST(CycleRoofline, VolumePhasesScaleWithTheCells) {
   EXPECT_NEAR(distributive_sweep_bytes(fine.finest()) / distributive_sweep_bytes(coarse.finest()),
               8.0, 1e-12);
   for (double ratio : {b.interior_smoothing / a.interior_smoothing, b.residual / a.residual,
-                       b.restriction / a.restriction, b.prolongation / a.prolongation}) {
+                       b.prolongation / a.prolongation}) {
     EXPECT_GT(ratio, 4.0);
     EXPECT_LT(ratio, 9.0);
   }
+  // The cycle restricts fresh residuals (residual_restriction.hpp): the residual row holds it.
+  EXPECT_EQ(a.restriction, 0.0);
+  EXPECT_EQ(b.restriction, 0.0);
   EXPECT_GT(b.boundary_smoothing / a.boundary_smoothing, 3.0);
   EXPECT_LT(b.boundary_smoothing / a.boundary_smoothing, 9.0);
 }
@@ -38,6 +41,10 @@ TEST(CycleRoofline, VolumeTermsEqualTheirHandCount) {
   EXPECT_DOUBLE_EQ(distributive_sweep_bytes(fine), 512.0 * 53);
   // Fine r read (4 fields) + coarse x, b written and coarse kind read.
   EXPECT_DOUBLE_EQ(restriction_bytes(fine, coarse), 1000.0 * 4 * 4 + 216.0 * 4 * (2 * 4 + 1));
+  // The cycle fuses it with the residual: no r written or read, the coarse writes stay.
+  EXPECT_TRUE(mg.fuses_restriction(0));
+  EXPECT_DOUBLE_EQ(fused_residual_restriction_bytes(fine, coarse),
+                   residual_bytes(fine) - 1000.0 * 4 * 4 + 216.0 * 4 * (2 * 4 + 1));
   // Coarse x and kind read, fine kind read and x read + written.
   EXPECT_DOUBLE_EQ(prolongation_bytes(coarse, fine), 216.0 * 4 * (4 + 1) + 1000.0 * 4 * (8 + 1));
   // Stencil pass: x, b, relaxation read and r written per field, plus the band rows (> 0).

@@ -1,4 +1,5 @@
 #include "mgelastic/grid/corotated_operator.hpp"
+#include "mgelastic/grid/residual.hpp"
 
 #include <omp.h>
 #include <algorithm>
@@ -484,6 +485,7 @@ double corotated_residual(Level<Dim, double>& level, const std::vector<Matrix<Di
           stress[i * Dim + j][k] = builder.shear_stress(i, j, k);
       }
     }
+  ensure_residual_storage(level);
   for (auto& field : level.r) zero_live(field, level.live);
   const std::vector<std::uint32_t> targets = row_targets(level);
   const auto count = static_cast<std::ptrdiff_t>(targets.size());
@@ -535,6 +537,7 @@ std::optional<double> corotated_stress(const Level<Dim, double>& level,
 
 template <int Dim>
 double corotated_residual(Level<Dim, double>& level, const CorotatedRows& rows) {
+  ensure_residual_storage(level);
   for (auto& field : level.r) zero_live(field, level.live);
   const auto count = static_cast<std::ptrdiff_t>(rows.rows());
   const std::size_t n = level.size();

@@ -123,6 +123,14 @@ double restriction_bytes(const Level<Dim, Scalar>& fine, const Level<Dim, Scalar
 }
 
 template <int Dim, typename Scalar>
+double fused_residual_restriction_bytes(const Level<Dim, Scalar>& fine,
+                                        const Level<Dim, Scalar>& coarse) {
+  constexpr double S = sizeof(Scalar), F = Dim + 1;
+  return residual_bytes(fine) - static_cast<double>(fine.size()) * F * S +
+         static_cast<double>(coarse.size()) * F * (2 * S + kField);
+}
+
+template <int Dim, typename Scalar>
 double prolongation_bytes(const Level<Dim, Scalar>& coarse, const Level<Dim, Scalar>& fine) {
   constexpr double S = sizeof(Scalar), F = Dim + 1;
   return static_cast<double>(coarse.size()) * F * (S + kField) +
@@ -153,8 +161,12 @@ PhaseSeconds cycle_bytes(const Multigrid<Dim, Scalar>& mg) {
              band_call_bytes(level, relocation_sweeps, &level.pre_restriction_rows) +
              band_call_bytes(level, relocation_sweeps, &level.post_prolongation_rows));
     bytes.interior_smoothing += v * 2 * distributive_sweep_bytes(level);
-    bytes.residual += v * residual_bytes(level);
-    bytes.restriction += v * restriction_bytes(level, next);
+    if (mg.fuses_restriction(l)) {
+      bytes.residual += v * fused_residual_restriction_bytes(level, next);
+    } else {
+      bytes.residual += v * residual_bytes(level);
+      bytes.restriction += v * restriction_bytes(level, next);
+    }
     bytes.prolongation += v * prolongation_bytes(next, level);
   }
   constexpr double S = sizeof(Scalar), F = Dim + 1;
@@ -223,6 +235,7 @@ CycleRoofline cycle_roofline(const Multigrid<Dim, Scalar>& mg, const SolveReport
   template double band_gauss_seidel_bytes<D, S>(const Level<D, S>&, int);                          \
   template double residual_bytes<D, S>(const Level<D, S>&);                                        \
   template double restriction_bytes<D, S>(const Level<D, S>&, const Level<D, S>&);                 \
+  template double fused_residual_restriction_bytes<D, S>(const Level<D, S>&, const Level<D, S>&);  \
   template double prolongation_bytes<D, S>(const Level<D, S>&, const Level<D, S>&);
 MGELASTIC_INSTANTIATE(2, float)
 MGELASTIC_INSTANTIATE(2, double)

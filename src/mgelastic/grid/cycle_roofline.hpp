@@ -25,6 +25,9 @@
 //   residual            read x, b (F S each), relaxation (F), write r (F S) over n; band rows:
 //                       index 9, entries 5 + S each, constant, b, r (3S), pressure rows + 2S
 //   restriction         read fine r (F S n_f); coarse: zero x and b (2 F S n_c), read kind (F)
+//                       fused (Multigrid::fuses_restriction, residual_restriction.hpp): counted
+//                       with the residual, which then writes no r (the window stays in cache)
+//                       but the coarse x, b and kind above; restriction moves nothing
 //   prolongation        read coarse x and kind (F (S + 1) n_c); fine kind (F n_f), read + write
 //                       fine x (2 F S n_f)
 //   coarse_solve        the Cholesky factor twice (forward and backward substitution), coarse b
@@ -73,6 +76,9 @@ template <int Dim, typename Scalar>
 double residual_bytes(const Level<Dim, Scalar>& level);
 template <int Dim, typename Scalar>
 double restriction_bytes(const Level<Dim, Scalar>& fine, const Level<Dim, Scalar>& coarse);
+template <int Dim, typename Scalar>
+double fused_residual_restriction_bytes(const Level<Dim, Scalar>& fine,
+                                        const Level<Dim, Scalar>& coarse);
 template <int Dim, typename Scalar>
 double prolongation_bytes(const Level<Dim, Scalar>& coarse, const Level<Dim, Scalar>& fine);
 

@@ -224,6 +224,12 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
       weights.pop_back();
     }
   }
+  // The cycle restricts fresh residuals (restrict_to_next): no level keeps an r (one is
+  // allocated again where a caller asks for a residual array, update_residual).
+  for (std::size_t l = 0; l + 1 < m_levels.size(); ++l)
+    m_band_row_planes.push_back(band_row_planes(m_levels[l]));
+  for (Level<Dim, Scalar>& level : m_levels)
+    for (auto& field : level.r) field = std::vector<Scalar>();
   if (mixed_precision()) {
     m_solution = std::make_unique<Level<Dim, double>>(
         build_level<Dim, double>(lattices[0], cells[0], problem.material, problem.boundary_stress,
@@ -290,7 +296,7 @@ template <int Dim, typename Scalar>
 std::size_t Multigrid<Dim, Scalar>::bytes() const {
   std::size_t total = m_solution ? m_solution->bytes() : 0;
   for (const auto& level : m_levels) total += level.bytes();
-  return total;
+  return total + fused_restriction_bytes();
 }
 
 template <int Dim, typename Scalar>
@@ -300,11 +306,19 @@ std::vector<ByteShare> Multigrid<Dim, Scalar>::byte_breakdown() const {
     const std::vector<ByteShare> shares = m_levels[l].byte_breakdown();
     for (std::size_t i = 0; i < shares.size(); ++i) total[i].bytes += shares[i].bytes;
   }
+  total.push_back({"band rows by plane, residual windows", fused_restriction_bytes()});
   if (m_solution)
     for (ByteShare share : m_solution->byte_breakdown()) {
       share.name = "solution " + share.name;
       total.push_back(std::move(share));
     }
+  return total;
+}
+
+template <int Dim, typename Scalar>
+std::size_t Multigrid<Dim, Scalar>::fused_restriction_bytes() const {
+  std::size_t total = m_residual_windows.bytes();
+  for (const BandRowPlanes& planes : m_band_row_planes) total += planes.bytes();
   return total;
 }
 
@@ -409,12 +423,7 @@ void Multigrid<Dim, Scalar>::correct(int l) {
                     m_levels[l].pre_restriction_schedule, m_options.band_sweep_order);
   m_phases.boundary_smoothing += timer.seconds();
   observe(l, CyclePhase::RELOCATION_BEFORE_RESTRICTION);
-  timer.restart();
-  update_residual(m_levels[l]);
-  m_phases.residual += timer.seconds();
-  timer.restart();
-  restrict_residual(m_levels[l], m_levels[l + 1]);
-  m_phases.restriction += timer.seconds();
+  restrict_to_next(l);
   observe(l + 1, CyclePhase::RESTRICTION);
   const int visits = (m_options.cycle == CycleType::W && l + 1 < coarsest) ? 2 : 1;
   for (int visit = 0; visit < visits; ++visit) correct(l + 1);
@@ -428,6 +437,22 @@ void Multigrid<Dim, Scalar>::correct(int l) {
   m_phases.boundary_smoothing += timer.seconds();
   observe(l, CyclePhase::RELOCATION_AFTER_PROLONGATION);
   smooth(l, false);
+}
+
+template <int Dim, typename Scalar>
+void Multigrid<Dim, Scalar>::restrict_to_next(int l) {
+  Timer timer;
+  if (fuses_restriction(l)) {
+    restrict_fresh_residual(m_levels[l], m_band_row_planes[static_cast<std::size_t>(l)],
+                            m_levels[l + 1], m_residual_windows);
+    m_phases.residual += timer.seconds();  // residual and restriction in one pass
+    return;
+  }
+  update_residual(m_levels[l]);
+  m_phases.residual += timer.seconds();
+  timer.restart();
+  restrict_residual(m_levels[l], m_levels[l + 1]);
+  m_phases.restriction += timer.seconds();
 }
 
 template <int Dim, typename Scalar>

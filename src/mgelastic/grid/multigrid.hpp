@@ -13,6 +13,7 @@
 #include "mgelastic/grid/coarse_solver.hpp"
 #include "mgelastic/grid/level.hpp"
 #include "mgelastic/grid/problem.hpp"
+#include "mgelastic/grid/residual_restriction.hpp"
 #include "mgelastic/grid/solver_health.hpp"
 
 namespace mgelastic::grid {
@@ -170,6 +171,12 @@ class Multigrid {
   double solution(int field, std::ptrdiff_t k) const;
   std::size_t unknowns() const { return m_levels.front().interior_unknowns(); }
   int boundary_sweeps() const { return m_boundary_sweeps; }
+  // Whether the cycle passes level l's residual to level l + 1 fused with the restriction
+  // (residual_restriction.hpp; false after a caller changed level l's band rows).
+  bool fuses_restriction(int l) const {
+    return l + 1 < levels() &&
+           m_band_row_planes[static_cast<std::size_t>(l)].valid_for(m_levels[l]);
+  }
   const MultigridOptions& options() const { return m_options; }
   // Bytes of the coarsest level's factor (a coarse solve streams it twice).
   std::size_t coarse_factor_bytes() const { return m_coarse->factor_bytes(); }
@@ -213,8 +220,17 @@ class Multigrid {
   [[noreturn]] void fail_diverged(const std::string& what, const std::string& reason,
                                   const std::vector<double>& residuals, const StartState& start);
   void correct(int level);
+  // b_{l+1} = R r_l and x_{l+1} = 0: fused (no r_l) while level l's band rows are those grouped
+  // at the build, else update_residual and restrict_residual.
+  void restrict_to_next(int l);
+  std::size_t fused_restriction_bytes() const;  // band rows by plane and plane windows
 
   std::vector<Level<Dim, Scalar>> m_levels;
+  // Each level but the coarsest passes its residual to the next one fused with the restriction
+  // (residual_restriction.hpp), so the levels keep no r: per level, its band rows by plane, and
+  // the threads' plane windows.
+  std::vector<BandRowPlanes> m_band_row_planes;
+  ResidualWindows<Scalar> m_residual_windows;
   // Single precision runs as mixed-precision iterative refinement: the solution and its
   // residual live on a double copy of the finest level, and each float V-cycle solves for the
   // correction (homogeneous boundary conditions), so float V-cycles still reach residuals far

@@ -43,49 +43,54 @@ bool any_distributive(const std::array<const Relaxation*, Dim + 1>& relax, std::
 //   r_p = b_p - mu div u - (mu^2 / lambda) p   (pressure rows, DISTRIBUTIVE and lambda > 0)
 // Layout: lattice.hpp's flat index k; the stencil reaches k -+ s[Dim - 1] at most, so every
 // k in [s[Dim - 1], n - s[Dim - 1]) is evaluated and the padding plane at both ends is zeroed.
-// Vectorization: the rows of a chunk of `residual_chunk` flat indices are evaluated
+// Vectorization: the rows of a chunk of at most `residual_chunk` flat indices are evaluated
 // unconditionally into a local buffer (no branch, no store that may alias the inputs: GCC
-// vectorizes the loop), then copied out with a select on the relaxation class. The chunks are
-// fixed (independent of the thread count), and each row is the same expression as the
-// point-wise residual, so r does not depend on the thread count.
-template <int Dim, typename Scalar, typename Out>
-void stencil_residual(const Level<Dim, Scalar>& level, const std::array<const Scalar*, Dim>& u,
-                      const std::array<std::ptrdiff_t, Dim>& s,
-                      const StencilConstants<Dim, Scalar>& c, const std::array<Out*, Dim + 1>& r,
-                      std::vector<double>* chunk_squares) {
+// vectorizes the loop), then copied out with a select on the relaxation class. Each row is the
+// same expression as the point-wise residual, wherever a chunk starts, so r does not depend on
+// the thread count or on the chunking.
+template <int Dim, typename Scalar>
+struct StencilResidual {
+  std::array<const Scalar*, Dim> u;
+  std::array<std::ptrdiff_t, Dim> s;
+  StencilConstants<Dim, Scalar> c;
   std::array<const Relaxation*, Dim + 1> relax;
   std::array<const Scalar*, Dim + 1> b;
-  for (int f = 0; f <= Dim; ++f) {
-    relax[f] = level.relaxation[f].data();
-    b[f] = level.b[f].data();
+  const Scalar* p;
+  Scalar inertia, mu, d;
+  bool has_pressure;
+  std::ptrdiff_t lo, hi;  // the evaluated flat range (outside: padding planes, r = 0)
+
+  explicit StencilResidual(const Level<Dim, Scalar>& level) {
+    for (int i = 0; i < Dim; ++i) {
+      u[i] = level.x[i].data();
+      s[i] = level.lattice.stride(i);
+    }
+    const Scalar inv_h = static_cast<Scalar>(1.0 / level.lattice.h);
+    c = {level.mu, inv_h, inv_h * inv_h};
+    for (int f = 0; f <= Dim; ++f) {
+      relax[f] = level.relaxation[f].data();
+      b[f] = level.b[f].data();
+    }
+    p = level.x[Dim].data();
+    inertia = level.inertia;
+    mu = level.mu;
+    has_pressure = level.lambda > 0;
+    d = has_pressure ? level.mu * level.mu / level.lambda : Scalar(0);
+    const auto n = static_cast<std::ptrdiff_t>(level.size());
+    lo = std::min(s[Dim - 1], n);
+    hi = std::max(n - s[Dim - 1], lo);
   }
-  const Scalar* p = level.x[Dim].data();
-  const Scalar inertia = level.inertia;
-  const Scalar mu = level.mu, lambda = level.lambda;
-  const bool has_pressure = lambda > 0;
-  const Scalar d = has_pressure ? mu * mu / lambda : Scalar(0);
-  const auto n = static_cast<std::ptrdiff_t>(level.size());
-  const std::ptrdiff_t lo = std::min(s[Dim - 1], n), hi = std::max(n - s[Dim - 1], lo);
-  for (int f = 0; f <= Dim; ++f) {
-    zero_live(r[f], 0, lo, level.live);
-    zero_live(r[f], hi, n, level.live);
-  }
-  // Chunk q covers [q c, (q + 1) c) of the flat index clipped to [lo, hi), c = residual_chunk =
-  // kLiveChunk: a dead chunk (live_chunks.hpp) is skipped, its r already zero.
-  const std::ptrdiff_t first_chunk = lo / residual_chunk;
-  const std::ptrdiff_t chunks = (hi + residual_chunk - 1) / residual_chunk - first_chunk;
-  if (chunk_squares)
-    chunk_squares->assign(static_cast<std::size_t>(std::max<std::ptrdiff_t>(chunks, 0)), 0.0);
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t q = 0; q < chunks; ++q) {
-    const std::ptrdiff_t begin = std::max(lo, (first_chunk + q) * residual_chunk);
-    const std::ptrdiff_t m = std::min((first_chunk + q + 1) * residual_chunk, hi) - begin;
-    if (m <= 0 || !level.live.any_live(begin, begin + m)) continue;
+
+  // Rows [begin, begin + m) with lo <= begin, begin + m <= hi and m <= residual_chunk into
+  // r[f][k]; with `squares`, adds their sum of squares (unrounded, fixed order).
+  template <typename Out>
+  void chunk(const std::array<Out*, Dim + 1>& r, std::ptrdiff_t begin, std::ptrdiff_t m,
+             double* squares) const {
     if (!any_distributive<Dim>(relax, begin, m)) {
       // Outside an embedded body (most of its bounding box) a chunk holds no stencil row: its
       // residuals are zero (as the select below would give) without reading x and b.
       for (int f = 0; f <= Dim; ++f) std::fill(r[f] + begin, r[f] + begin + m, Out(0));
-      continue;
+      return;
     }
     alignas(64) Scalar value[Dim + 1][residual_chunk];
     for (std::ptrdiff_t i = 0; i < m; ++i) {
@@ -106,11 +111,37 @@ void stencil_residual(const Level<Dim, Scalar>& level, const std::array<const Sc
       }
       for (std::ptrdiff_t i = 0; i < m; ++i)
         out[i] = rf[i] == Relaxation::DISTRIBUTIVE ? static_cast<Out>(v[i]) : Out(0);
-      if (!chunk_squares) continue;
-      (*chunk_squares)[q] += split_sum(m, [&](std::ptrdiff_t i) {
+      if (!squares) continue;
+      *squares += split_sum(m, [&](std::ptrdiff_t i) {
         return rf[i] == Relaxation::DISTRIBUTIVE ? static_cast<double>(v[i]) * v[i] : 0.0;
       });
     }
+  }
+};
+
+// The stencil rows of the whole level in fixed chunks of `residual_chunk` = kLiveChunk flat
+// indices, in parallel; a dead chunk (live_chunks.hpp) is skipped, its r already zero.
+template <int Dim, typename Scalar, typename Out>
+void stencil_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Dim + 1>& r,
+                      std::vector<double>* chunk_squares) {
+  const StencilResidual<Dim, Scalar> stencil(level);
+  const auto n = static_cast<std::ptrdiff_t>(level.size());
+  const std::ptrdiff_t lo = stencil.lo, hi = stencil.hi;
+  for (int f = 0; f <= Dim; ++f) {
+    zero_live(r[f], 0, lo, level.live);
+    zero_live(r[f], hi, n, level.live);
+  }
+  // Chunk q covers [q c, (q + 1) c) of the flat index clipped to [lo, hi).
+  const std::ptrdiff_t first_chunk = lo / residual_chunk;
+  const std::ptrdiff_t chunks = (hi + residual_chunk - 1) / residual_chunk - first_chunk;
+  if (chunk_squares)
+    chunk_squares->assign(static_cast<std::size_t>(std::max<std::ptrdiff_t>(chunks, 0)), 0.0);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t q = 0; q < chunks; ++q) {
+    const std::ptrdiff_t begin = std::max(lo, (first_chunk + q) * residual_chunk);
+    const std::ptrdiff_t m = std::min((first_chunk + q + 1) * residual_chunk, hi) - begin;
+    if (m <= 0 || !level.live.any_live(begin, begin + m)) continue;
+    stencil.chunk(r, begin, m, chunk_squares ? &(*chunk_squares)[q] : nullptr);
   }
 }
 
@@ -192,22 +223,59 @@ namespace {
 template <int Dim, typename Scalar, typename Out>
 void level_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Dim + 1>& r,
                     double* squares) {
-  std::array<const Scalar*, Dim> u;
-  std::array<std::ptrdiff_t, Dim> s;
-  for (int i = 0; i < Dim; ++i) {
-    u[i] = level.x[i].data();
-    s[i] = level.lattice.stride(i);
-  }
-  const Scalar inv_h = static_cast<Scalar>(1.0 / level.lattice.h);
-  const StencilConstants<Dim, Scalar> c{level.mu, inv_h, inv_h * inv_h};
   std::vector<double> chunk_squares;
-  stencil_residual<Dim, Scalar, Out>(level, u, s, c, r, squares ? &chunk_squares : nullptr);
+  stencil_residual<Dim, Scalar, Out>(level, r, squares ? &chunk_squares : nullptr);
   if (squares)
     for (double value : chunk_squares) *squares += value;
   band_residual<Dim, Scalar, Out>(level, r, squares);
 }
 
 }  // namespace
+
+template <int Dim, typename Scalar>
+void residual_planes(const Level<Dim, Scalar>& level, const BandRowPlanes& band_planes, int first,
+                     int end, const std::array<Scalar*, Dim + 1>& r) {
+  const StencilResidual<Dim, Scalar> stencil(level);
+  const std::ptrdiff_t plane = level.lattice.stride(Dim - 1);
+  const std::ptrdiff_t begin = first * plane, stop = end * plane;
+  // Padding planes and dead chunks hold zeros (the window is scratch, so they are written).
+  for (std::ptrdiff_t k = begin; k < stop;) {
+    const std::ptrdiff_t next = std::min(stop, (k / residual_chunk + 1) * residual_chunk);
+    const std::ptrdiff_t a = std::max(k, stencil.lo), e = std::min(next, stencil.hi);
+    if (a < e && level.live.any_live(k, next)) {
+      for (int f = 0; f <= Dim; ++f) {
+        std::fill(r[f] + k, r[f] + a, Scalar(0));
+        std::fill(r[f] + e, r[f] + next, Scalar(0));
+      }
+      stencil.chunk(r, a, e - a, nullptr);
+    } else {
+      for (int f = 0; f <= Dim; ++f) std::fill(r[f] + k, r[f] + next, Scalar(0));
+    }
+    k = next;
+  }
+  // The band rows of these planes overwrite their targets, as band_residual does.
+  const BandKernel<Scalar>& kernel = level.band_kernel;
+  for (std::uint32_t i = band_planes.momentum_start[first]; i < band_planes.momentum_start[end];
+       ++i) {
+    const std::uint32_t m = band_planes.momentum_rows[i];
+    const int f = kernel.field[m];
+    const std::uint32_t k = kernel.target[m];
+    r[f][k] = level.b[f][k] - kernel.constant[m] - kernel.row_sum(level.x, m);
+  }
+  if (level.lambda <= 0) return;
+  const auto& p_rows = level.band_p;
+  const Scalar d0 = level.mu * level.mu / level.lambda;
+  for (std::uint32_t i = band_planes.pressure_start[first]; i < band_planes.pressure_start[end];
+       ++i) {
+    const std::uint32_t m = band_planes.pressure_rows[i];
+    const std::uint32_t k = p_rows.target_index[m];
+    Scalar sum = 0;
+    for (std::uint32_t e = p_rows.start[m]; e < p_rows.start[m + 1]; ++e)
+      sum += p_rows.value[e] * level.x[p_rows.column_field[e]][p_rows.column_index[e]];
+    r[Dim][k] =
+        level.b[Dim][k] - p_rows.constant[m] - sum - (d0 + level.band_p_extra[m]) * level.x[Dim][k];
+  }
+}
 
 template <int Dim, typename Scalar, typename Out>
 double residual_into(const Level<Dim, Scalar>& level, const std::array<Out*, Dim + 1>& r) {
@@ -218,13 +286,9 @@ double residual_into(const Level<Dim, Scalar>& level, const std::array<Out*, Dim
 
 template <int Dim, typename Scalar>
 void update_residual(Level<Dim, Scalar>& level) {
-  // A level may hold no r (Multigrid's double solution level): it is scratch, allocated here.
+  ensure_residual_storage(level);
   std::array<Scalar*, Dim + 1> r;
-  for (int f = 0; f <= Dim; ++f) {
-    if (level.r[f].size() != level.size())
-      assign_zeros_sparse(level.r[f], level.size(), level.live);
-    r[f] = level.r[f].data();
-  }
+  for (int f = 0; f <= Dim; ++f) r[f] = level.r[f].data();
   level_residual<Dim, Scalar, Scalar>(level, r, nullptr);
 }
 
@@ -241,11 +305,13 @@ double residual_norm(const Level<Dim, Scalar>& level) {
   return norm_of<Dim, Scalar>(r, level.size(), level.live);
 }
 
-#define MGELASTIC_INSTANTIATE(D, S)                                    \
-  template void update_residual<D, S>(Level<D, S>&);                   \
-  template double compute_residual<D, S>(Level<D, S>&);                \
-  template double residual_norm<D, S>(const Level<D, S>&);             \
-  template double residual_into<D, double, S>(const Level<D, double>&, \
+#define MGELASTIC_INSTANTIATE(D, S)                                                       \
+  template void residual_planes<D, S>(const Level<D, S>&, const BandRowPlanes&, int, int, \
+                                      const std::array<S*, D + 1>&);                      \
+  template void update_residual<D, S>(Level<D, S>&);                                      \
+  template double compute_residual<D, S>(Level<D, S>&);                                   \
+  template double residual_norm<D, S>(const Level<D, S>&);                                \
+  template double residual_into<D, double, S>(const Level<D, double>&,                    \
                                               const std::array<S*, D + 1>&);
 
 MGELASTIC_INSTANTIATE(2, float)

@@ -11,11 +11,21 @@
 #include <array>
 #include <cstddef>
 
+#include "mgelastic/grid/band_row_planes.hpp"
 #include "mgelastic/grid/level.hpp"
 
 namespace mgelastic::grid {
 
-// Fills level.r (the V-cycle's restriction reads it; no norm).
+// Allocates level.r (zeros) where the level holds none: Multigrid's levels keep no r (the
+// V-cycle restricts fresh residuals, residual_restriction.hpp, and the double solution level
+// writes its residual into the float level's b), so whoever wants a residual array gets it here.
+template <int Dim, typename Scalar>
+void ensure_residual_storage(Level<Dim, Scalar>& level) {
+  for (auto& field : level.r)
+    if (field.size() != level.size()) assign_zeros_sparse(field, level.size(), level.live);
+}
+
+// Fills level.r (allocated if absent; no norm).
 template <int Dim, typename Scalar>
 void update_residual(Level<Dim, Scalar>& level);
 
@@ -33,5 +43,12 @@ double residual_norm(const Level<Dim, Scalar>& level);
 // returns the norm above of the unrounded values (a residual beyond float range stays finite).
 template <int Dim, typename Scalar, typename Out>
 double residual_into(const Level<Dim, Scalar>& level, const std::array<Out*, Dim + 1>& r);
+
+// The residual of the lattice planes [first, end) along the last axis (update_residual's values
+// there, zeros included) written to r[f][k] for k in those planes only: r may point into a
+// window of a few planes (residual_restriction.hpp). band_planes: band_row_planes(level).
+template <int Dim, typename Scalar>
+void residual_planes(const Level<Dim, Scalar>& level, const BandRowPlanes& band_planes, int first,
+                     int end, const std::array<Scalar*, Dim + 1>& r);
 
 }  // namespace mgelastic::grid

@@ -172,53 +172,84 @@ void restrict_row_dispatch(const Scalar* r, const OuterRestrictionTaps<Dim>& out
 
 }  // namespace
 
+namespace {
+
+// The restriction of one field into one coarse storage row s (s[0] = 0): r is the fine
+// residual of that field (indexable at the fine flat indices the row's taps read).
+template <int Dim, typename Scalar>
+void restrict_coarse_row(const Level<Dim, Scalar>& fine, const Scalar* r,
+                         Level<Dim, Scalar>& coarse, int field, const IVec<Dim>& s) {
+  // Coarse x coordinates whose taps all lie in the fine storage (fast path).
+  const int first = 1;
+  const int last = std::min(coarse.lattice.padded(0) - 1, (fine.lattice.padded(0) - 1) / 2);
+  std::array<Taps, Dim> taps;
+  for (int a = 1; a < Dim; ++a)
+    taps[a] = stored_restriction_taps(s[a], a == field, fine.lattice.padded(a));
+  const std::ptrdiff_t base = coarse.lattice.index(s);
+  const VarKind* kind = coarse.kind[field].data() + base;
+  if (!has_interior(kind, coarse.lattice.padded(0))) return;  // b stays zero
+  Scalar* b = coarse.b[field].data() + base;
+  auto general = [&](int i) {
+    if (kind[i] != VarKind::INTERIOR) return;
+    taps[0] = stored_restriction_taps(i, field == 0, fine.lattice.padded(0));
+    double sum = 0.0;
+    restrict_taps<Dim, Scalar>(fine.lattice, r, taps, 0, 0, 1.0, sum);
+    b[i] = static_cast<Scalar>(sum);
+  };
+  for (int i = 0; i < std::min(first, coarse.lattice.padded(0)); ++i) general(i);
+  for (int i = std::max(last + 1, first); i < coarse.lattice.padded(0); ++i) general(i);
+  if (last < first) return;
+  // Outer fine rows in restrict_taps' order: axis 1 outermost, the last axis innermost.
+  OuterRestrictionTaps<Dim> outer;
+  outer.count = 1;
+  outer.weight[0] = 1.0;
+  for (int a = Dim - 1; a >= 1; --a) {
+    OuterRestrictionTaps<Dim> next;
+    for (const Tap& t : taps[a])
+      for (int q = 0; q < outer.count; ++q) {
+        next.offset[next.count] = t.coordinate * fine.lattice.stride(a) + outer.offset[q];
+        next.weight[next.count] = t.weight * outer.weight[q];
+        ++next.count;
+      }
+    outer = next;
+  }
+  if (field == 0)
+    restrict_row_dispatch<3>(r, outer, kind, b, first, last);
+  else
+    restrict_row_dispatch<2>(r, outer, kind, b, first, last);
+}
+
+}  // namespace
+
 template <int Dim, typename Scalar>
 void restrict_residual(const Level<Dim, Scalar>& fine, Level<Dim, Scalar>& coarse) {
   for (int field = 0; field <= Dim; ++field) {
     zero_live(coarse.x[field], coarse.live);
     zero_live(coarse.b[field], coarse.live);
     const Scalar* r = fine.r[field].data();
-    // Coarse x coordinates whose taps all lie in the fine storage (fast path).
-    const int first = 1;
-    const int last = std::min(coarse.lattice.padded(0) - 1, (fine.lattice.padded(0) - 1) / 2);
-    for_each_row<Dim>(coarse.lattice, [&](const IVec<Dim>& s) {
-      std::array<Taps, Dim> taps;
-      for (int a = 1; a < Dim; ++a)
-        taps[a] = stored_restriction_taps(s[a], a == field, fine.lattice.padded(a));
-      const std::ptrdiff_t base = coarse.lattice.index(s);
-      const VarKind* kind = coarse.kind[field].data() + base;
-      if (!has_interior(kind, coarse.lattice.padded(0))) return;  // b stays zero
-      Scalar* b = coarse.b[field].data() + base;
-      auto general = [&](int i) {
-        if (kind[i] != VarKind::INTERIOR) return;
-        taps[0] = stored_restriction_taps(i, field == 0, fine.lattice.padded(0));
-        double sum = 0.0;
-        restrict_taps<Dim, Scalar>(fine.lattice, r, taps, 0, 0, 1.0, sum);
-        b[i] = static_cast<Scalar>(sum);
-      };
-      for (int i = 0; i < std::min(first, coarse.lattice.padded(0)); ++i) general(i);
-      for (int i = std::max(last + 1, first); i < coarse.lattice.padded(0); ++i) general(i);
-      if (last < first) return;
-      // Outer fine rows in restrict_taps' order: axis 1 outermost, the last axis innermost.
-      OuterRestrictionTaps<Dim> outer;
-      outer.count = 1;
-      outer.weight[0] = 1.0;
-      for (int a = Dim - 1; a >= 1; --a) {
-        OuterRestrictionTaps<Dim> next;
-        for (const Tap& t : taps[a])
-          for (int q = 0; q < outer.count; ++q) {
-            next.offset[next.count] = t.coordinate * fine.lattice.stride(a) + outer.offset[q];
-            next.weight[next.count] = t.weight * outer.weight[q];
-            ++next.count;
-          }
-        outer = next;
-      }
-      if (field == 0)
-        restrict_row_dispatch<3>(r, outer, kind, b, first, last);
-      else
-        restrict_row_dispatch<2>(r, outer, kind, b, first, last);
-    });
+    for_each_row<Dim>(coarse.lattice,
+                      [&](const IVec<Dim>& s) { restrict_coarse_row(fine, r, coarse, field, s); });
   }
+}
+
+template <int Dim, typename Scalar>
+void restrict_residual_planes(const Level<Dim, Scalar>& fine,
+                              const std::array<const Scalar*, Dim + 1>& r,
+                              Level<Dim, Scalar>& coarse, int first, int end) {
+  IVec<Dim> s;
+  s[0] = 0;
+  for (int field = 0; field <= Dim; ++field)
+    for (int z = first; z < end; ++z) {
+      s[Dim - 1] = z;
+      if constexpr (Dim == 3) {
+        for (int y = 0; y < coarse.lattice.padded(1); ++y) {
+          s[1] = y;
+          restrict_coarse_row(fine, r[field], coarse, field, s);
+        }
+      } else {
+        restrict_coarse_row(fine, r[field], coarse, field, s);
+      }
+    }
 }
 
 namespace {
@@ -518,8 +549,10 @@ void prolongate_correction(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>&
   });
 }
 
-#define MGELASTIC_INSTANTIATE(D, S)                                        \
-  template void restrict_residual<D, S>(const Level<D, S>&, Level<D, S>&); \
+#define MGELASTIC_INSTANTIATE(D, S)                                                    \
+  template void restrict_residual<D, S>(const Level<D, S>&, Level<D, S>&);             \
+  template void restrict_residual_planes<D, S>(                                        \
+      const Level<D, S>&, const std::array<const S*, D + 1>&, Level<D, S>&, int, int); \
   template void prolongate_correction<D, S>(const Level<D, S>&, Level<D, S>&);
 MGELASTIC_INSTANTIATE(2, float)
 MGELASTIC_INSTANTIATE(2, double)

@@ -9,12 +9,22 @@
 // conditions are homogeneous) and zeroes the coarse unknowns. Prolongation adds the correction
 // to fine interior variables, renormalizing the weights over coarse variables that are defined
 // (interior, Dirichlet = 0, or back-substituted traction values); inactive ones are skipped.
+#include <array>
+
 #include "mgelastic/grid/level.hpp"
 
 namespace mgelastic::grid {
 
 template <int Dim, typename Scalar>
 void restrict_residual(const Level<Dim, Scalar>& fine, Level<Dim, Scalar>& coarse);
+
+// The restriction of the coarse planes [first, end) along the last axis only (no zeroing):
+// r[f] is the fine residual of field f, indexable at the fine planes 2 first - 2 .. 2 end - 2
+// (the taps of those coarse planes), e.g. a window of residual_planes (residual_restriction.hpp).
+template <int Dim, typename Scalar>
+void restrict_residual_planes(const Level<Dim, Scalar>& fine,
+                              const std::array<const Scalar*, Dim + 1>& r,
+                              Level<Dim, Scalar>& coarse, int first, int end);
 
 template <int Dim, typename Scalar>
 void prolongate_correction(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>& fine);
