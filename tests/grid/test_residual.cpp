@@ -111,5 +111,25 @@ TEST(Residual, VectorizedStencilResidualEqualsPointwiseResidual) {
   expect_residual_equals_pointwise<2, float>(37, 2e5);
 }
 
+// The norm without a residual array: residual_into's bit for bit (the same sums in the same
+// order), compute_residual's up to the order of the sum, and no r allocated.
+TEST(Residual, FreshNormEqualsTheNormOfTheResidualArray) {
+  auto level = random_mixed_level<3, double>(12, 0.0, 9);
+  const double fresh = fresh_residual_norm(level);
+  std::array<std::vector<double>, 4> r;
+  std::array<double*, 4> out;
+  for (int f = 0; f <= 3; ++f) {
+    r[f].assign(level.size(), 0.0);
+    out[f] = r[f].data();
+  }
+  EXPECT_EQ(fresh, (residual_into<3, double, double>(level, out)));
+  auto single = random_mixed_level<2, float>(24, 0.0, 4);
+  for (auto& field : single.r) field = std::vector<float>();
+  const double fresh_float = fresh_residual_norm(single);
+  EXPECT_TRUE(single.r[0].empty());
+  EXPECT_GT(fresh_float, 0.0);
+  EXPECT_NEAR(fresh_float, compute_residual(single), 1e-12 * fresh_float);
+}
+
 }  // namespace
 }  // namespace mgelastic::grid

@@ -75,6 +75,9 @@ TEST(SinglePrecision, StateRoundTripsAndHasNoDoubleLevel) {
   const double before = single.residual();
   const auto state = single.solution_state();
   single.run_cycles(1);
+  // The cycles' norms come without a residual array on any level (fresh_residual_norm,
+  // residual_restriction.hpp).
+  for (int l = 0; l < single.levels(); ++l) EXPECT_TRUE(single.level(l).r[0].empty()) << l;
   single.set_solution_state(state);
   EXPECT_DOUBLE_EQ(single.residual(), before);  // float values survive the double copy exactly
   EXPECT_THROW(single.solution_level(), Error);

@@ -175,10 +175,11 @@ PhaseSeconds cycle_bytes(const Multigrid<Dim, Scalar>& mg) {
                                            static_cast<double>(last.size()) * F * (2 * S + kField) +
                                            traction_bytes(last));
   if (mg.single_precision()) {
-    // The float finest level holds the solution: no refinement; the solve's start is a float
-    // copy of x (read + written).
+    // The float finest level holds the solution: no refinement; the cycle's norm comes from the
+    // rows without a residual array (fresh_residual_norm: no r written, no norm pass); the
+    // solve's start is a float copy of x (read + written).
     const Level<Dim, Scalar>& fine = mg.finest();
-    bytes.cycle_residual = residual_bytes(fine) + norm_bytes(fine);
+    bytes.cycle_residual = residual_bytes(fine) - F * S * static_cast<double>(fine.size());
     bytes.solve_setup = bytes.cycle_residual + 2 * S * F * static_cast<double>(fine.size());
     return bytes;
   }

@@ -34,7 +34,8 @@
 //                       read and x written (2 F S n_c), kind (F n_c)
 //   refinement          mixed precision only: read r (8 F n), write float b, x (2 F S n); then
 //                       read kind, e, x and write x (F (1 + S + 16) n), traction back-substitution
-//   cycle_residual      a residual of the solution level plus the norm's read of r (F S n)
+//   cycle_residual      a residual of the solution level plus the norm's read of r (F S n);
+//                       single precision: the finest level's rows without r (no write, no read)
 //   solve_setup         per SOLVE, not per cycle: one residual and norm of the solution level and
 //                       the copy of its x (read + write 2 * 8 F n)
 #include <cstddef>

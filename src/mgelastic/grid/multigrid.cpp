@@ -361,7 +361,7 @@ void Multigrid<Dim, Scalar>::observe(int l, CyclePhase phase) {
 
 template <int Dim, typename Scalar>
 double Multigrid<Dim, Scalar>::residual() {
-  if (!m_solution) return compute_residual(m_levels.front());
+  if (!m_solution) return fresh_residual_norm(m_levels.front());
   const double norm = residual_to_correction_problem(*m_solution, m_levels.front());
   m_solution_residual_current = true;
   return norm;
@@ -372,7 +372,7 @@ double Multigrid<Dim, Scalar>::vcycle() {
   if (!m_solution) {
     cycle_correction();
     Timer timer;
-    const double norm = compute_residual(m_levels.front());
+    const double norm = fresh_residual_norm(m_levels.front());
     m_phases.cycle_residual += timer.seconds();
     return norm;
   }

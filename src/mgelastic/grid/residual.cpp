@@ -145,11 +145,33 @@ void stencil_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Di
   }
 }
 
+// The squares of the stencil rows per chunk (as stencil_residual's chunk_squares) without a
+// residual array: each chunk's rows go to a scratch buffer on the stack.
+template <int Dim, typename Scalar>
+void stencil_residual_squares(const Level<Dim, Scalar>& level, std::vector<double>& chunk_squares) {
+  const StencilResidual<Dim, Scalar> stencil(level);
+  const std::ptrdiff_t lo = stencil.lo, hi = stencil.hi;
+  const std::ptrdiff_t first_chunk = lo / residual_chunk;
+  const std::ptrdiff_t chunks = (hi + residual_chunk - 1) / residual_chunk - first_chunk;
+  chunk_squares.assign(static_cast<std::size_t>(std::max<std::ptrdiff_t>(chunks, 0)), 0.0);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t q = 0; q < chunks; ++q) {
+    const std::ptrdiff_t begin = std::max(lo, (first_chunk + q) * residual_chunk);
+    const std::ptrdiff_t m = std::min((first_chunk + q + 1) * residual_chunk, hi) - begin;
+    if (m <= 0 || !level.live.any_live(begin, begin + m)) continue;
+    alignas(64) Scalar scratch[Dim + 1][residual_chunk];
+    std::array<Scalar*, Dim + 1> r;
+    for (int f = 0; f <= Dim; ++f) r[f] = scratch[f] - begin;
+    stencil.chunk(r, begin, m, &chunk_squares[static_cast<std::size_t>(q)]);
+  }
+}
+
 // Band rows; with `squares`, also the sum of their squared residuals (before rounding to Out),
-// added in row order.
+// added in row order. r[0] null: the squares only (nothing written).
 template <int Dim, typename Scalar, typename Out>
 void band_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Dim + 1>& r,
                    double* squares) {
+  const bool write = r[0] != nullptr;
   std::vector<Scalar> values;  // the rows' residuals, kept only when squares are asked for
   const auto keep = [&](std::size_t count) {
     if (squares) values.assign(count, Scalar(0));
@@ -172,7 +194,7 @@ void band_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Dim +
     const int f = kernel.field[m];
     const std::uint32_t k = kernel.target[m];
     const Scalar value = level.b[f][k] - kernel.constant[m] - kernel.row_sum(level.x, m);
-    r[f][k] = static_cast<Out>(value);
+    if (write) r[f][k] = static_cast<Out>(value);
     if (squares) values[m] = value;
   }
   if (squares) add_squares();
@@ -186,7 +208,7 @@ void band_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Dim +
     const std::uint32_t k = p_rows.target_index[m];
     const Scalar value = level.b[Dim][k] - p_rows.constant[m] - row_value(p_rows, m) -
                          (d0 + level.band_p_extra[m]) * level.x[Dim][k];
-    r[Dim][k] = static_cast<Out>(value);
+    if (write) r[Dim][k] = static_cast<Out>(value);
     if (squares) values[m] = value;
   }
   if (squares) add_squares();
@@ -281,6 +303,17 @@ template <int Dim, typename Scalar, typename Out>
 double residual_into(const Level<Dim, Scalar>& level, const std::array<Out*, Dim + 1>& r) {
   double squares = 0;
   level_residual<Dim, Scalar, Out>(level, r, &squares);
+  return std::sqrt(squares);
+}
+
+template <int Dim, typename Scalar>
+double fresh_residual_norm(const Level<Dim, Scalar>& level) {
+  std::vector<double> chunk_squares;
+  stencil_residual_squares(level, chunk_squares);
+  double squares = 0;
+  for (double value : chunk_squares) squares += value;
+  std::array<Scalar*, Dim + 1> none{};
+  band_residual<Dim, Scalar, Scalar>(level, none, &squares);
   return std::sqrt(squares);
 }
 

@@ -33,6 +33,12 @@ void update_residual(Level<Dim, Scalar>& level);
 template <int Dim, typename Scalar>
 double compute_residual(Level<Dim, Scalar>& level);
 
+// The residual norm above without a residual array (the rows evaluated chunk by chunk into
+// scratch): residual_into's norm, bit for bit, for any thread count. Equal to compute_residual's
+// up to the order of the sum.
+template <int Dim, typename Scalar>
+double fresh_residual_norm(const Level<Dim, Scalar>& level);
+
 // The norm of the current level.r (as compute_residual returns it).
 template <int Dim, typename Scalar>
 double residual_norm(const Level<Dim, Scalar>& level);
