@@ -166,6 +166,24 @@ void stencil_residual_squares(const Level<Dim, Scalar>& level, std::vector<doubl
   }
 }
 
+// The residual of band momentum row m (compact form, band_kernel.hpp; the CSR rows may be
+// dropped) and of band pressure row m (d0 = mu^2 / lambda).
+template <int Dim, typename Scalar>
+Scalar band_momentum_residual(const Level<Dim, Scalar>& level, std::size_t m) {
+  const BandKernel<Scalar>& kernel = level.band_kernel;
+  const std::uint32_t k = kernel.target[m];
+  return level.b[kernel.field[m]][k] - kernel.constant[m] - kernel.row_sum(level.x, m);
+}
+template <int Dim, typename Scalar>
+Scalar band_pressure_residual(const Level<Dim, Scalar>& level, std::size_t m, Scalar d0) {
+  const SparseRows<Scalar>& rows = level.band_p;
+  Scalar sum = 0;
+  for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e)
+    sum += rows.value[e] * level.x[rows.column_field[e]][rows.column_index[e]];
+  const std::uint32_t k = rows.target_index[m];
+  return level.b[Dim][k] - rows.constant[m] - sum - (d0 + level.band_p_extra[m]) * level.x[Dim][k];
+}
+
 // Band rows; with `squares`, also the sum of their squared residuals (before rounding to Out),
 // added in row order. r[0] null: the squares only (nothing written).
 template <int Dim, typename Scalar, typename Out>
@@ -179,22 +197,13 @@ void band_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Dim +
   const auto add_squares = [&] {
     for (Scalar v : values) *squares += static_cast<double>(v) * v;
   };
-  auto row_value = [&](const SparseRows<Scalar>& rows, std::ptrdiff_t m) {
-    Scalar sum = 0;
-    for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e)
-      sum += rows.value[e] * level.x[rows.column_field[e]][rows.column_index[e]];
-    return sum;
-  };
-  // Momentum rows from their compact form (band_kernel.hpp; the CSR rows may be dropped).
   const BandKernel<Scalar>& kernel = level.band_kernel;
   const auto u_count = static_cast<std::ptrdiff_t>(kernel.rows());
   keep(kernel.rows());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t m = 0; m < u_count; ++m) {
-    const int f = kernel.field[m];
-    const std::uint32_t k = kernel.target[m];
-    const Scalar value = level.b[f][k] - kernel.constant[m] - kernel.row_sum(level.x, m);
-    if (write) r[f][k] = static_cast<Out>(value);
+    const Scalar value = band_momentum_residual(level, static_cast<std::size_t>(m));
+    if (write) r[kernel.field[m]][kernel.target[m]] = static_cast<Out>(value);
     if (squares) values[m] = value;
   }
   if (squares) add_squares();
@@ -205,10 +214,8 @@ void band_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Dim +
   keep(p_rows.rows());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t m = 0; m < p_count; ++m) {
-    const std::uint32_t k = p_rows.target_index[m];
-    const Scalar value = level.b[Dim][k] - p_rows.constant[m] - row_value(p_rows, m) -
-                         (d0 + level.band_p_extra[m]) * level.x[Dim][k];
-    if (write) r[Dim][k] = static_cast<Out>(value);
+    const Scalar value = band_pressure_residual(level, static_cast<std::size_t>(m), d0);
+    if (write) r[Dim][p_rows.target_index[m]] = static_cast<Out>(value);
     if (squares) values[m] = value;
   }
   if (squares) add_squares();
@@ -280,9 +287,7 @@ void residual_planes(const Level<Dim, Scalar>& level, const BandRowPlanes& band_
   for (std::uint32_t i = band_planes.momentum_start[first]; i < band_planes.momentum_start[end];
        ++i) {
     const std::uint32_t m = band_planes.momentum_rows[i];
-    const int f = kernel.field[m];
-    const std::uint32_t k = kernel.target[m];
-    r[f][k] = level.b[f][k] - kernel.constant[m] - kernel.row_sum(level.x, m);
+    r[kernel.field[m]][kernel.target[m]] = band_momentum_residual(level, m);
   }
   if (level.lambda <= 0) return;
   const auto& p_rows = level.band_p;
@@ -290,12 +295,7 @@ void residual_planes(const Level<Dim, Scalar>& level, const BandRowPlanes& band_
   for (std::uint32_t i = band_planes.pressure_start[first]; i < band_planes.pressure_start[end];
        ++i) {
     const std::uint32_t m = band_planes.pressure_rows[i];
-    const std::uint32_t k = p_rows.target_index[m];
-    Scalar sum = 0;
-    for (std::uint32_t e = p_rows.start[m]; e < p_rows.start[m + 1]; ++e)
-      sum += p_rows.value[e] * level.x[p_rows.column_field[e]][p_rows.column_index[e]];
-    r[Dim][k] =
-        level.b[Dim][k] - p_rows.constant[m] - sum - (d0 + level.band_p_extra[m]) * level.x[Dim][k];
+    r[Dim][p_rows.target_index[m]] = band_pressure_residual(level, m, d0);
   }
 }
 
