@@ -4,18 +4,20 @@
 // rows of Sec. 5.3.
 //
 // Fields (x = unknowns incl. Dirichlet and back-substituted traction values, b = right-hand
-// side, r = residual scratch) are arrays of lattice.size() entries in the layout of lattice.hpp
-// (on an embedded body with the pages far from every variable released: live_chunks.hpp);
-// index 0..Dim-1 is u_i, index Dim is p. A "global variable index" is field * size + k.
+// side, r = residual scratch, empty on Multigrid's levels until a caller asks for it:
+// residual.hpp's ensure_residual_storage) are arrays of lattice.size() entries in the layout of
+// lattice.hpp (on an embedded body with the pages far from every variable released:
+// live_chunks.hpp); index 0..Dim-1 is u_i, index Dim is p. A "global variable index" is field *
+// size + k.
 //
 // Memory (byte_breakdown(); docs/performance.md "Memory per unknown"). Per lattice point and
-// field: x, b, r (3 Scalars), kind and relaxation (1 byte each); per cell its type. Per band
-// row: target (global index and (field, index)), start, constant, Schur diagonal, eliminated
-// pressures. Per band entry: (field, index, value) (5 bytes of index + one Scalar). These CSR
-// rows are the build's form: the compact patterns (band_kernel) hold the same rows at ~1/7 of
-// the bytes, and Multigrid drops the CSR once blocks, runs and schedules are built from it
-// (drop_band_csr). On top, for the sweeps: cell blocks with their inverses, runs and colored
-// schedules. Band arrays are trimmed to their size after the build. The double-precision
+// field: x, b (2 Scalars; r a third where allocated), kind and relaxation (1 byte each); per cell
+// its type. Per band row: target (global index and (field, index)), start, constant, Schur
+// diagonal, eliminated pressures. Per band entry: (field, index, value) (5 bytes of index + one
+// Scalar). These CSR rows are the build's form: the compact patterns (band_kernel) hold the same
+// rows at ~1/7 of the bytes, and Multigrid drops the CSR once blocks, runs and schedules are built
+// from it (drop_band_csr). On top, for the sweeps: cell blocks with their inverses, runs and
+// colored schedules. Band arrays are trimmed to their size after the build. The double-precision
 // solution level of a mixed-precision solve keeps only what residuals, corrections and traction
 // back-substitution read (Multigrid drops the rest).
 #include <array>
