@@ -7,6 +7,7 @@
 
 #include "mgelastic/grid/box_problem.hpp"
 #include "mgelastic/grid/coarsening.hpp"
+#include "mgelastic/grid/residual.hpp"
 #include "mgelastic/grid/transfer.hpp"
 
 namespace mgelastic::grid {
@@ -33,6 +34,7 @@ TwoLevels two_levels(int n) {
 // constant at every coarse equation whose stencil stays inside the fine interior.
 TEST(Transfer, RestrictionPreservesConstants) {
   auto levels = two_levels(16);
+  ensure_residual_storage(levels.fine);
   for (int f = 0; f <= 3; ++f)
     for (std::size_t k = 0; k < levels.fine.size(); ++k)
       levels.fine.r[f][k] = levels.fine.kind[f][k] == VarKind::INTERIOR ? 2.5 : 0.0;
@@ -90,6 +92,7 @@ TEST(Transfer, RowWiseRestrictionEqualsReferenceSums) {
                                            {}, nullptr);
       std::mt19937 rng(n);
       std::normal_distribution<double> normal;
+      ensure_residual_storage(fine);
       for (auto& field : fine.r)
         for (double& v : field) v = normal(rng);
       restrict_residual(fine, coarse);

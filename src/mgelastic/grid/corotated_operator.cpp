@@ -1,5 +1,4 @@
 #include "mgelastic/grid/corotated_operator.hpp"
-#include "mgelastic/grid/residual.hpp"
 
 #include <omp.h>
 #include <algorithm>
@@ -7,6 +6,8 @@
 #include <cmath>
 #include <optional>
 #include <stdexcept>
+
+#include "mgelastic/grid/residual.hpp"
 
 namespace mgelastic::grid {
 namespace {

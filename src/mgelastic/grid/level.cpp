@@ -663,11 +663,12 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
   }
   mark_traction_variables(level);
   // Traction marking is the last change of INACTIVE: the live chunks are final here, and the
-  // fields are allocated one array at a time with their dead pages released at once.
+  // fields are allocated one array at a time with their dead pages released at once. r stays
+  // empty until a residual array is asked for (residual.hpp: ensure_residual_storage); the
+  // V-cycle needs none (residual_restriction.hpp).
   if (release_dead_pages) level.live = find_live_chunks<Dim>(level.lattice, level.kind);
   for (int f = 0; f <= Dim; ++f)
-    for (auto* field : {&level.x[f], &level.b[f], &level.r[f]})
-      assign_zeros_sparse(*field, n, level.live);
+    for (auto* field : {&level.x[f], &level.b[f]}) assign_zeros_sparse(*field, n, level.live);
   std::vector<std::uint8_t> pre(Dim * n, 0), post(Dim * n, 0);
   classify_relaxation(level, coarse_cells, pre, post, band_layers);
   const RowBuilder<Dim> builder(level.lattice, level.cells, material.mu(), sigma, inertia,

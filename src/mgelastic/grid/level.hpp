@@ -4,7 +4,7 @@
 // rows of Sec. 5.3.
 //
 // Fields (x = unknowns incl. Dirichlet and back-substituted traction values, b = right-hand
-// side, r = residual scratch, empty on Multigrid's levels until a caller asks for it:
+// side, r = residual scratch, empty from build_level until a caller asks for it:
 // residual.hpp's ensure_residual_storage) are arrays of lattice.size() entries in the layout of
 // lattice.hpp (on an embedded body with the pages far from every variable released:
 // live_chunks.hpp); index 0..Dim-1 is u_i, index Dim is p. A "global variable index" is field *

@@ -224,12 +224,10 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
       weights.pop_back();
     }
   }
-  // The cycle restricts fresh residuals (restrict_to_next): no level keeps an r (one is
-  // allocated again where a caller asks for a residual array, update_residual).
+  // The cycle restricts fresh residuals (restrict_to_next), so the levels need no r (built
+  // without one; allocated where a caller asks for a residual array, update_residual).
   for (std::size_t l = 0; l + 1 < m_levels.size(); ++l)
     m_band_row_planes.push_back(band_row_planes(m_levels[l]));
-  for (Level<Dim, Scalar>& level : m_levels)
-    for (auto& field : level.r) field = std::vector<Scalar>();
   if (mixed_precision()) {
     m_solution = std::make_unique<Level<Dim, double>>(
         build_level<Dim, double>(lattices[0], cells[0], problem.material, problem.boundary_stress,
