@@ -120,17 +120,20 @@ struct StencilResidual {
 };
 
 // The stencil rows of the whole level in fixed chunks of `residual_chunk` = kLiveChunk flat
-// indices, in parallel; a dead chunk (live_chunks.hpp) is skipped, its r already zero.
+// indices, in parallel; a dead chunk (live_chunks.hpp) is skipped, its r already zero. r[0]
+// null: no residual array, each chunk's rows go to scratch on the stack (chunk_squares only).
 template <int Dim, typename Scalar, typename Out>
 void stencil_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Dim + 1>& r,
                       std::vector<double>* chunk_squares) {
   const StencilResidual<Dim, Scalar> stencil(level);
+  const bool write = r[0] != nullptr;
   const auto n = static_cast<std::ptrdiff_t>(level.size());
   const std::ptrdiff_t lo = stencil.lo, hi = stencil.hi;
-  for (int f = 0; f <= Dim; ++f) {
-    zero_live(r[f], 0, lo, level.live);
-    zero_live(r[f], hi, n, level.live);
-  }
+  if (write)
+    for (int f = 0; f <= Dim; ++f) {
+      zero_live(r[f], 0, lo, level.live);
+      zero_live(r[f], hi, n, level.live);
+    }
   // Chunk q covers [q c, (q + 1) c) of the flat index clipped to [lo, hi).
   const std::ptrdiff_t first_chunk = lo / residual_chunk;
   const std::ptrdiff_t chunks = (hi + residual_chunk - 1) / residual_chunk - first_chunk;
@@ -141,28 +144,15 @@ void stencil_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Di
     const std::ptrdiff_t begin = std::max(lo, (first_chunk + q) * residual_chunk);
     const std::ptrdiff_t m = std::min((first_chunk + q + 1) * residual_chunk, hi) - begin;
     if (m <= 0 || !level.live.any_live(begin, begin + m)) continue;
-    stencil.chunk(r, begin, m, chunk_squares ? &(*chunk_squares)[q] : nullptr);
-  }
-}
-
-// The squares of the stencil rows per chunk (as stencil_residual's chunk_squares) without a
-// residual array: each chunk's rows go to a scratch buffer on the stack.
-template <int Dim, typename Scalar>
-void stencil_residual_squares(const Level<Dim, Scalar>& level, std::vector<double>& chunk_squares) {
-  const StencilResidual<Dim, Scalar> stencil(level);
-  const std::ptrdiff_t lo = stencil.lo, hi = stencil.hi;
-  const std::ptrdiff_t first_chunk = lo / residual_chunk;
-  const std::ptrdiff_t chunks = (hi + residual_chunk - 1) / residual_chunk - first_chunk;
-  chunk_squares.assign(static_cast<std::size_t>(std::max<std::ptrdiff_t>(chunks, 0)), 0.0);
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t q = 0; q < chunks; ++q) {
-    const std::ptrdiff_t begin = std::max(lo, (first_chunk + q) * residual_chunk);
-    const std::ptrdiff_t m = std::min((first_chunk + q + 1) * residual_chunk, hi) - begin;
-    if (m <= 0 || !level.live.any_live(begin, begin + m)) continue;
-    alignas(64) Scalar scratch[Dim + 1][residual_chunk];
-    std::array<Scalar*, Dim + 1> r;
-    for (int f = 0; f <= Dim; ++f) r[f] = scratch[f] - begin;
-    stencil.chunk(r, begin, m, &chunk_squares[static_cast<std::size_t>(q)]);
+    double* squares = chunk_squares ? &(*chunk_squares)[q] : nullptr;
+    if (write) {
+      stencil.chunk(r, begin, m, squares);
+      continue;
+    }
+    alignas(64) Out scratch[Dim + 1][residual_chunk];
+    std::array<Out*, Dim + 1> rows;
+    for (int f = 0; f <= Dim; ++f) rows[f] = scratch[f] - begin;
+    stencil.chunk(rows, begin, m, squares);
   }
 }
 
@@ -248,7 +238,8 @@ double norm_of(const std::array<const T*, Dim + 1>& r, std::size_t size, const L
 
 namespace {
 
-// Stencil and band residuals into r; with `squares`, their sum of squares (unrounded).
+// Stencil and band residuals into r (r[0] null: none written); with `squares`, their sum of
+// squares (unrounded).
 template <int Dim, typename Scalar, typename Out>
 void level_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Dim + 1>& r,
                     double* squares) {
@@ -308,12 +299,8 @@ double residual_into(const Level<Dim, Scalar>& level, const std::array<Out*, Dim
 
 template <int Dim, typename Scalar>
 double fresh_residual_norm(const Level<Dim, Scalar>& level) {
-  std::vector<double> chunk_squares;
-  stencil_residual_squares(level, chunk_squares);
   double squares = 0;
-  for (double value : chunk_squares) squares += value;
-  std::array<Scalar*, Dim + 1> none{};
-  band_residual<Dim, Scalar, Scalar>(level, none, &squares);
+  level_residual<Dim, Scalar, Scalar>(level, {}, &squares);  // null arrays: squares only
   return std::sqrt(squares);
 }
 
@@ -343,6 +330,7 @@ double residual_norm(const Level<Dim, Scalar>& level) {
                                       const std::array<S*, D + 1>&);                      \
   template void update_residual<D, S>(Level<D, S>&);                                      \
   template double compute_residual<D, S>(Level<D, S>&);                                   \
+  template double fresh_residual_norm<D, S>(const Level<D, S>&);                          \
   template double residual_norm<D, S>(const Level<D, S>&);                                \
   template double residual_into<D, double, S>(const Level<D, double>&,                    \
                                               const std::array<S*, D + 1>&);
