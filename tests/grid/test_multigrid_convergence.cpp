@@ -225,6 +225,23 @@ TEST(ConvergenceRate, GeometricMeanOfLastFiveRatiosAboveFloor) {
   const std::vector<double> residuals{1.0, 0.5, 0.1, 0.01, 1e-3, 1e-4, 1e-5, 1e-6, 1e-12, 1e-13};
   // Cycles 8 and 9 are below 1e-11 of the initial residual and do not count.
   EXPECT_NEAR(convergence_rate(residuals), 0.1, 1e-12);
+  EXPECT_NEAR(last_ratio(residuals), 0.1, 1e-12);  // cycle 7, the last above the floor
+  EXPECT_TRUE(rate_settled(residuals));
+}
+
+TEST(ConvergenceRate, ClimbingRatiosAreNotSettled) {
+  // The armadillo-at-256 pattern: a fast start, then a slow mode takes over.
+  std::vector<double> residuals{1.0};
+  for (double ratio : {0.35, 0.35, 0.35, 0.40, 0.49, 0.63, 0.73, 0.76})
+    residuals.push_back(residuals.back() * ratio);
+  EXPECT_FALSE(rate_settled(residuals));  // 0.63, 0.73, 0.76
+  EXPECT_NEAR(last_ratio(residuals), 0.76, 1e-12);
+  residuals.push_back(residuals.back() * 0.77);
+  EXPECT_FALSE(rate_settled(residuals));  // 0.73 .. 0.77: 0.04 apart
+  residuals.push_back(residuals.back() * 0.775);
+  residuals.push_back(residuals.back() * 0.776);
+  EXPECT_TRUE(rate_settled(residuals));          // 0.77 .. 0.776
+  EXPECT_FALSE(rate_settled({1.0, 0.5, 0.25}));  // two ratios say nothing yet
 }
 
 }  // namespace
