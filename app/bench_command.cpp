@@ -25,6 +25,7 @@
 #include "mgelastic/grid/disc_study.hpp"
 #include "mgelastic/grid/error_history.hpp"
 #include "mgelastic/grid/hypre_baseline.hpp"
+#include "mgelastic/grid/layout_census.hpp"
 #include "mgelastic/grid/multigrid.hpp"
 #include "mgelastic/grid/nonaugmented_system.hpp"
 #include "mgelastic/io/synthetic_lattice_frame.hpp"
@@ -147,6 +148,18 @@ void add_per_cell_fields(nlohmann::json& record, const grid::Multigrid<Dim, Scal
   record["ns_per_active_cell"] = record["vcycle_seconds"].get<double>() / cells * 1e9;
   record["bytes_per_active_cell"] = record["working_set_bytes"].get<double>() / cells;
   record["band_rows_per_active_cell"] = static_cast<double>(finest.band_kernel.rows()) / cells;
+  // Lattice points per active cell that each layout would keep, over all levels (issue 24's
+  // tiles, measured before they are built; grid/layout_census.hpp).
+  std::vector<const grid::Level<Dim, Scalar>*> levels;
+  for (int l = 0; l < mg.levels(); ++l) levels.push_back(&mg.level(l));
+  const grid::LayoutCensus census = grid::layout_census(levels, {{4, 4, 4}, {8, 8, 8}, {32, 8, 4}});
+  nlohmann::json layout = {{"bounding_box", census.bounding_box / cells},
+                           {"with_variables", census.with_variables / cells},
+                           {"live_pages", census.live_pages / cells}};
+  for (const grid::TileCensus& tiles : census.tiles)
+    layout["tiles_" + std::to_string(tiles.size[0]) + "x" + std::to_string(tiles.size[1]) + "x" +
+           std::to_string(tiles.size[2])] = tiles.points / cells;
+  record["layout_points_per_active_cell"] = layout;
   record["band_relaxations_in_runs"] = runs.row_relaxations > 0
                                            ? static_cast<double>(runs.row_relaxations_in_runs) /
                                                  static_cast<double>(runs.row_relaxations)
@@ -504,6 +517,16 @@ void print_profile_summary(const nlohmann::json& records, const BoxBenchOptions&
       const double value = r[key].get<double>();
       std::printf(value >= 100 ? " | %9.0f" : " | %9.3f", value);
     }
+  }
+  // Lattice points per active cell, all levels: today's box, the floor, and the tiled layouts.
+  const std::vector<std::pair<const char*, const char*>> layouts = {
+      {"points/cell: box", "bounding_box"}, {"  with a variable", "with_variables"},
+      {"  4 KiB pages", "live_pages"},      {"  4^3 tiles", "tiles_4x4x4"},
+      {"  8^3 tiles", "tiles_8x8x8"},       {"  32x8x4 tiles", "tiles_32x8x4"}};
+  for (const auto& [label, key] : layouts) {
+    std::printf("\n%-20s", label);
+    for (const auto& r : records)
+      std::printf(" | %9.2f", r["layout_points_per_active_cell"][key].get<double>());
   }
   std::printf("\n");
   // The breakdown rows (the same groups in every run of one precision).
