@@ -81,7 +81,9 @@ TEST(LiveChunks, HoldEveryVariableAndItsNeighbourRows) {
     for (std::ptrdiff_t k = 0; k < n; ++k) {
       if (level.kind[f][k] == VarKind::INACTIVE) continue;
       for (std::ptrdiff_t d : {std::ptrdiff_t{0}, -sy, sy, -sz, sz})
-        if (k + d >= 0 && k + d < n) ASSERT_TRUE(level.live.any_live(k + d, k + d + 1)) << k;
+        if (k + d >= 0 && k + d < n) {
+          ASSERT_TRUE(level.live.any_live(k + d, k + d + 1)) << k;
+        }
     }
   std::size_t released = 0;
   for (int f = 0; f <= 3; ++f) released += released_bytes(level.x[f], level.live);
@@ -119,10 +121,11 @@ TEST(LiveChunks, ReleasedPagesStayReleasedAndChangeNoResult) {
     const Level<3, float>& level = sparse.level(l);
     for (int f = 0; f <= 3; ++f)
       for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(level.size()); ++k)
-        if (!level.live.any_live(k, k + 1))
+        if (!level.live.any_live(k, k + 1)) {
           ASSERT_TRUE(level.x[f][k] == 0 && level.b[f][k] == 0 &&
                       (level.r[f].empty() || level.r[f][k] == 0))
               << l;
+        }
   }
 }
 

@@ -46,7 +46,9 @@ TEST(MultigridSetup, SolutionLevelSharesTheFinestLevelsVariableCodes) {
     EXPECT_EQ(solution.relaxation[f].data(), fine.relaxation[f].data()) << f;
   }
   for (const ByteShare& share : solution.byte_breakdown())
-    if (share.name == "kind" || share.name == "relaxation") EXPECT_EQ(share.bytes, 0u);
+    if (share.name == "kind" || share.name == "relaxation") {
+      EXPECT_EQ(share.bytes, 0u);
+    }
   Level<3, double> copy = solution;
   ASSERT_EQ(copy.kind[0], fine.kind[0]);
   EXPECT_NE(copy.kind[0].data(), fine.kind[0].data());
