@@ -401,6 +401,7 @@ nlohmann::json mesh_vcycle(const std::string& file, int resolution, const BoxBen
   const double cpu = process_cpu_seconds();
   const grid::SolveReport report = mg.run_cycles(o.cycles);
   const double cycle_cpu = (process_cpu_seconds() - cpu) / std::max(1, report.cycles());
+  const double floor = rate_floor(o);
   nlohmann::json record = {{"benchmark", "convergence"},
                            {"mesh", file},
                            {"dim", 3},
@@ -413,9 +414,9 @@ nlohmann::json mesh_vcycle(const std::string& file, int resolution, const BoxBen
                            {"levels", mg.levels()},
                            {"unknowns", mg.unknowns()},
                            {"residuals", report.residuals},
-                           {"rate", grid::convergence_rate(report.residuals, rate_floor(o))},
-                           {"last_ratio", grid::last_ratio(report.residuals, rate_floor(o))},
-                           {"rate_settled", grid::rate_settled(report.residuals, rate_floor(o))}};
+                           {"rate", grid::convergence_rate(report.residuals, floor)},
+                           {"last_ratio", grid::last_ratio(report.residuals, floor)},
+                           {"rate_settled", grid::rate_settled(report.residuals, floor)}};
   add_cycle_fields(record, mg, report, o.triad_gb_per_s);
   record["vcycle_cpu_seconds"] = cycle_cpu;
   if (o.error_history) {

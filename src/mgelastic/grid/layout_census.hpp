@@ -15,10 +15,11 @@
 //   tiles (a, b, c)   points in a x b x c tiles (x fastest) that hold a variable or a stencil
 //                     neighbour of one (the 27 points around it): a tile-major layout where a
 //                     kernel finds every neighbour it reads in an allocated tile.
-// The 128^3 box keeps 1.05 points per active cell in every layout (its padding ring). The
-// armadillo at 256 cells: bounding box 8.75 on the finest level, with variables 1.89 (its
-// surface faces live at the exterior cells next to it), 4 KiB pages 4.30, tiles 4^3 2.07,
-// 8^3 2.50, 32 x 8 x 4 2.88.
+// Over all levels (docs/performance.md): the 128^3 mixed box keeps 1.38 points per active cell
+// densely (padding ring, Dirichlet slab, coarse levels), 1.45 / 1.62 / 1.88 in 4^3 / 8^3 /
+// 32 x 8 x 4 tiles (its rows do not divide into tiles); the armadillo at 256 cells 10.02
+// densely, 1.86 with variables (its surface faces live at the exterior cells next to it),
+// 5.10 in 4 KiB pages, 2.49 / 3.05 / 3.59 in those tiles.
 #include <array>
 #include <cstddef>
 #include <vector>
