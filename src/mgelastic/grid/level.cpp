@@ -566,6 +566,7 @@ std::vector<ByteShare> Level<Dim, Scalar>::byte_breakdown() const {
   for (int f = 0; f <= Dim; ++f) {
     for (const auto* field : {&x[f], &b[f], &r[f]})
       fields += vector_bytes(*field) - released_bytes(*field, live);
+    fields -= zero_load_bytes(f);
     if (kind.owns()) kinds += vector_bytes(kind[f]);  // else the level it shares them with counts
     if (relaxation.owns()) relaxations += vector_bytes(relaxation[f]);
   }
@@ -697,7 +698,21 @@ void set_dirichlet_values(Level<Dim, Scalar>& level,
   }
 }
 
+template <int Dim, typename Scalar>
+void release_zero_load_pages(Level<Dim, Scalar>& level) {
+  for (int f = 0; f <= Dim; ++f)
+    level.zero_load_pages[f] = release_zero_pages(level.b[f], level.live);
+}
+
+template <int Dim, typename Scalar>
+std::size_t Level<Dim, Scalar>::zero_load_bytes(int field) const {
+  std::size_t bytes = 0;
+  for (const auto& [p0, p1] : zero_load_pages[field]) bytes += p1 - p0;
+  return bytes;
+}
+
 #define MGELASTIC_INSTANTIATE(D, S)                                                        \
+  template void release_zero_load_pages<D, S>(Level<D, S>&);                               \
   template struct Level<D, S>;                                                             \
   template Level<D, S> build_level<D, S>(                                                  \
       const Lattice<D>&, std::vector<CellType>, const Material&, const BoundaryStress<D>&, \

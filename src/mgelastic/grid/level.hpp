@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mgelastic/grid/band_kernel.hpp"
@@ -135,6 +136,11 @@ struct Level {
   // The stretches of x, b and r that hold or border a variable (live_chunks.hpp); outside them
   // the fields are zero with their pages released, and the passes over whole arrays skip them.
   LiveChunks live;
+  // Per field, the stretches [begin, end) of b's pages that release_zero_load_pages handed back
+  // because they held only zeros (beyond the dead chunks'); cleared once a writer may have
+  // filled them again, so the memory accounting counts them then.
+  std::array<std::vector<std::pair<std::uintptr_t, std::uintptr_t>>, Dim + 1> zero_load_pages;
+  std::size_t zero_load_bytes(int field) const;
   // One byte per variable and field each; the double solution level of a mixed-precision solve
   // shares them with the float finest level (shared_field_arrays.hpp).
   SharedFieldArrays<VarKind, Dim + 1> kind;
@@ -226,5 +232,12 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
 template <int Dim, typename Scalar>
 void set_dirichlet_values(Level<Dim, Scalar>& level,
                           const std::function<Vec<Dim>(const Vec<Dim>&)>& displacement);
+
+// Hands back the pages of b that hold only zeros (release_zero_pages, live_chunks.hpp) and
+// records them in zero_load_pages. For a right-hand side that only its loads write (the
+// double solution level of a mixed-precision solve): gravity along y leaves b of u_x, u_z and p
+// zero, 3/4 of its bytes.
+template <int Dim, typename Scalar>
+void release_zero_load_pages(Level<Dim, Scalar>& level);
 
 }  // namespace mgelastic::grid

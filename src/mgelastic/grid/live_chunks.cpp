@@ -159,8 +159,59 @@ void assign_zeros_sparse(std::vector<T>& v, std::size_t n, const LiveChunks& liv
   });
 }
 
+namespace {
+
+// Whether the bytes [p0, p1) (whole pages) are all zero: -0.0 is not, as releasing it would
+// turn it into +0.0.
+bool zero_bytes(std::uintptr_t p0, std::uintptr_t p1) {
+  const auto* word = reinterpret_cast<const std::uint64_t*>(p0);
+  const auto* end = reinterpret_cast<const std::uint64_t*>(p1);
+  std::uint64_t any = 0;
+  for (; word < end; ++word) any |= *word;
+  return any == 0;
+}
+
+}  // namespace
+
+template <typename T>
+std::vector<std::pair<std::uintptr_t, std::uintptr_t>> release_zero_pages(std::vector<T>& v,
+                                                                          const LiveChunks& live) {
+  std::vector<std::pair<std::uintptr_t, std::uintptr_t>> released;
+  if (v.empty()) return released;
+  const auto base = reinterpret_cast<std::uintptr_t>(v.data());
+  const std::size_t n = v.size();
+  const std::uintptr_t page = page_bytes();
+  const std::uintptr_t end = base + n * sizeof(T);
+  const auto release = [&](std::uintptr_t p0, std::uintptr_t p1) {
+    madvise(reinterpret_cast<void*>(p0), p1 - p0, MADV_DONTNEED);
+    if (!released.empty() && released.back().second == p0)
+      released.back().second = p1;
+    else
+      released.emplace_back(p0, p1);
+  };
+  std::uintptr_t p = (base + page - 1) & ~(page - 1);
+  while (p + page <= end) {
+    const std::uintptr_t range = p & ~(kHugePage - 1);
+    const bool inside = range >= base && range + kHugePage <= end;
+    if (inside && (live.all_live() || huge_range<T>(base, n, live, range))) {
+      if (zero_bytes(range, range + kHugePage)) release(range, range + kHugePage);
+      p = range + kHugePage;
+      continue;
+    }
+    // Outside huge ranges a page that overlaps no live chunk is released already.
+    if ((live.all_live() || live_page<T>(base, n, live, p)) && zero_bytes(p, p + page))
+      release(p, p + page);
+    p += page;
+  }
+  return released;
+}
+
 template LiveChunks find_live_chunks<2>(const Lattice<2>&, const SharedFieldArrays<VarKind, 3>&);
 template LiveChunks find_live_chunks<3>(const Lattice<3>&, const SharedFieldArrays<VarKind, 4>&);
+template std::vector<std::pair<std::uintptr_t, std::uintptr_t>> release_zero_pages<float>(
+    std::vector<float>&, const LiveChunks&);
+template std::vector<std::pair<std::uintptr_t, std::uintptr_t>> release_zero_pages<double>(
+    std::vector<double>&, const LiveChunks&);
 template void assign_zeros_sparse<float>(std::vector<float>&, std::size_t, const LiveChunks&);
 template void assign_zeros_sparse<double>(std::vector<double>&, std::size_t, const LiveChunks&);
 template std::size_t released_bytes<float>(const std::vector<float>&, const LiveChunks&);

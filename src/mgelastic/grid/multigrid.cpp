@@ -238,6 +238,8 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
     set_dirichlet_values(*m_solution, problem.dirichlet_displacement);
     write_load_right_hand_side(problem, *m_solution);
     back_substitute_traction(*m_solution);
+    // Only loads write its b (solution_level() forgets the record).
+    if (m_options.release_dead_pages) release_zero_load_pages(*m_solution);
   } else {
     set_dirichlet_values(m_levels.front(), problem.dirichlet_displacement);
     write_load_right_hand_side(problem, m_levels.front());
@@ -284,6 +286,7 @@ template <int Dim, typename Scalar>
 void Multigrid<Dim, Scalar>::set_loads(const ElasticityProblem<Dim>& problem) {
   if (m_solution) {
     replace_loads(*m_solution, problem);
+    if (m_options.release_dead_pages) release_zero_load_pages(*m_solution);
   } else {
     replace_loads(m_levels.front(), problem);
   }
@@ -558,7 +561,9 @@ void Multigrid<Dim, Scalar>::set_solution_state(const SolutionState& x) {
   if (single_precision()) {
     copy_solution_state(x, m_levels.front().x, m_levels.front().live);
   } else {
-    copy_solution_state(x, solution_level().x, solution_level().live);
+    // Not through solution_level(), which would forget the released zero pages of b.
+    Level<Dim, double>& solution = m_solution ? *m_solution : solution_level();
+    copy_solution_state(x, solution.x, solution.live);
   }
   m_solution_residual_current = false;
 }

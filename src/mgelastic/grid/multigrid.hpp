@@ -71,7 +71,8 @@ struct MultigridOptions {
   // unavailable.
   bool mixed_precision = true;
   // Hand the pages of the fields that hold no variable (most of an embedded body's bounding
-  // box) back to the operating system and skip them in whole-array passes (live_chunks.hpp).
+  // box) back to the operating system and skip them in whole-array passes (live_chunks.hpp),
+  // and the pages of the solution level's loads that hold only zeros (release_zero_load_pages).
   // The same results either way; false is for comparisons.
   bool release_dead_pages = true;
 };
