@@ -6,6 +6,7 @@
 #include "grid_test_support.hpp"
 #include "mgelastic/grid/boundary_smoother.hpp"
 #include "mgelastic/grid/box_problem.hpp"
+#include "mgelastic/grid/coarsening.hpp"
 #include "mgelastic/grid/multigrid.hpp"
 #include "mgelastic/grid/nonaugmented_system.hpp"
 #include "mgelastic/grid/problem_validation.hpp"
@@ -206,12 +207,30 @@ TEST(BandSmoother, RelocationSchedulesHoldTheFig8RowsBlockByBlock) {
   BoxSpec spec;
   spec.cells = 40;  // blocks of 64 x 8 x 8 cells, cut by the box
   spec.poisson_ratio = 0.48;
-  const Multigrid<3, float> mg(make_box_problem<3>(spec));
-  const Level<3, float>& fine = mg.finest();
+  const ElasticityProblem<3> problem = make_box_problem<3>(spec);
+  const std::vector<CellType> coarse_cells = coarsen_cells(problem.lattice, problem.cells);
+  const auto fine =
+      build_level<3, float>(problem.lattice, problem.cells, problem.material, {}, &coarse_cells);
   ASSERT_GT(fine.pre_restriction_rows.size(), 100u);
   ASSERT_GT(fine.post_prolongation_rows.size(), 100u);
   expect_schedule_holds(fine, fine.pre_restriction_schedule, fine.pre_restriction_rows);
   expect_schedule_holds(fine, fine.post_prolongation_schedule, fine.post_prolongation_rows);
+  // The hierarchy keeps a schedule only where its set is not the whole band (relocation_sweeps
+  // sweeps the whole band then).
+  const Multigrid<3, float> mg(problem);
+  const Level<3, float>& level = mg.finest();
+  int dropped = 0;
+  for (const auto& [schedule, rows] :
+       {std::pair{&level.pre_restriction_schedule, &level.pre_restriction_rows},
+        std::pair{&level.post_prolongation_schedule, &level.post_prolongation_rows}}) {
+    if (rows->size() < level.band_kernel.rows()) {
+      expect_schedule_holds(level, *schedule, *rows);
+      continue;
+    }
+    for (const auto& color : *schedule) EXPECT_TRUE(color.empty());
+    ++dropped;
+  }
+  EXPECT_EQ(dropped, 1);  // here every band row reads a coarse boundary correction
 }
 
 // Run-wise band relaxation (band_runs.hpp) keeps the step-by-step sweep's order: after three

@@ -41,8 +41,8 @@ void expect_same_stress_values(const Level<Dim, Scalar>& a, const Level<Dim, Sca
     EXPECT_EQ(a.traction.thin[r].sigma, b.traction.thin[r].sigma) << "thin rule " << r;
   ASSERT_EQ(a.traction.shear.size(), b.traction.shear.size());
   for (std::size_t r = 0; r < a.traction.shear.size(); ++r) {
-    const auto& ca = a.traction.shear[r].candidates;
-    const auto& cb = b.traction.shear[r].candidates;
+    const auto ca = a.traction.candidates(a.traction.shear[r]);
+    const auto cb = b.traction.candidates(b.traction.shear[r]);
     ASSERT_EQ(ca.size(), cb.size());
     for (std::size_t c = 0; c < ca.size(); ++c)
       EXPECT_EQ(ca[c].sigma_term, cb[c].sigma_term) << "shear rule " << r << " candidate " << c;

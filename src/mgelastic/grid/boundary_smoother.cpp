@@ -217,11 +217,10 @@ void back_substitute_traction(Level<Dim, Scalar>& level) {
     level.at(rule.upper) = mean + half_jump;
   }
   for (const auto& rule : level.traction.shear) {
-    if (rule.candidates.empty()) continue;
     Scalar sum = 0;
-    for (const auto& c : rule.candidates)
+    for (const auto& c : level.traction.candidates(rule))
       sum += level.at(c.partner) + c.sign * (level.at(c.plus) - level.at(c.minus)) + c.sigma_term;
-    level.at(rule.face) = sum / static_cast<Scalar>(rule.candidates.size());
+    level.at(rule.face) = sum / static_cast<Scalar>(rule.count);
   }
 }
 

@@ -581,10 +581,9 @@ void corotated_back_substitute(Level<Dim, double>& level, const std::vector<Matr
     level.at(rule.upper) = mean + half_jump;
   }
   for (const auto& rule : level.traction.shear) {
-    if (rule.candidates.empty()) continue;
     const int i = static_cast<int>(rule.face / n);
     double sum = 0;
-    for (const auto& c : rule.candidates) {
+    for (const auto& c : level.traction.candidates(rule)) {
       // P_ij = sigma at the edge between face and partner: G_ij = sigma / (2 mu) + <R_ij> +
       // <R_ij p> / 2 over the edge's interior cells.
       const int j = static_cast<int>(c.plus / n);
@@ -606,7 +605,7 @@ void corotated_back_substitute(Level<Dim, double>& level, const std::vector<Matr
       }
       sum += level.at(c.partner) - c.sign * h * g;
     }
-    level.at(rule.face) = sum / static_cast<double>(rule.candidates.size());
+    level.at(rule.face) = sum / static_cast<double>(rule.count);
   }
 }
 

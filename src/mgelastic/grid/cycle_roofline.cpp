@@ -71,9 +71,8 @@ double traction_bytes(const Level<Dim, Scalar>& level) {
   for (const auto& rule : t.thin)
     total += sizeof(rule) + bytes_of(rule.neighbors) +
              S * static_cast<double>(rule.neighbors.size() + 3);
-  for (const auto& rule : t.shear)
-    total += sizeof(rule) + bytes_of(rule.candidates) +
-             S * static_cast<double>(3 * rule.candidates.size() + 1);
+  total += bytes_of(t.shear) + bytes_of(t.shear_candidates) +
+           S * static_cast<double>(3 * t.shear_candidates.size() + t.shear.size());
   return total;
 }
 

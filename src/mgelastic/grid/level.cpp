@@ -468,7 +468,8 @@ void add_shear_rule(Level<Dim, Scalar>& level, const BoundaryStress<Dim>& sigma,
   const IVec<Dim> s = lat.coords(g);
   const std::ptrdiff_t si = lat.stride(i);
   const double h = lat.h, mu = level.mu;
-  ShearTractionRule<Scalar> rule{level.global(i, g), {}};
+  auto& candidates = level.traction.shear_candidates;
+  const auto first = static_cast<std::uint32_t>(candidates.size());
   auto known = [&](int axis, std::ptrdiff_t k) { return known_after_normal_pass(level, axis, k); };
   auto stress = [&](int j, std::ptrdiff_t edge) {
     return sigma ? sigma(i, j, lat.edge_center(i, j, edge)) : 0.0;
@@ -478,18 +479,18 @@ void add_shear_rule(Level<Dim, Scalar>& level, const BoundaryStress<Dim>& sigma,
     const std::ptrdiff_t sj = lat.stride(j);
     if (s[j] >= 1 && s[i] >= 1 && known(i, g - sj) && level.kind[i][g - sj] != VarKind::TRACTION &&
         known(j, g) && known(j, g - si)) {
-      rule.candidates.push_back({level.global(i, g - sj), level.global(j, g),
-                                 level.global(j, g - si), Scalar(-1),
-                                 static_cast<Scalar>(h * stress(j, g) / mu)});
+      candidates.push_back({level.global(i, g - sj), level.global(j, g), level.global(j, g - si),
+                            Scalar(-1), static_cast<Scalar>(h * stress(j, g) / mu)});
     }
     if (s[j] + 1 <= lat.cells[j] + 1 && s[i] >= 1 && known(i, g + sj) &&
         level.kind[i][g + sj] != VarKind::TRACTION && known(j, g + sj) && known(j, g + sj - si)) {
-      rule.candidates.push_back({level.global(i, g + sj), level.global(j, g + sj),
-                                 level.global(j, g + sj - si), Scalar(1),
-                                 static_cast<Scalar>(-h * stress(j, g + sj) / mu)});
+      candidates.push_back({level.global(i, g + sj), level.global(j, g + sj),
+                            level.global(j, g + sj - si), Scalar(1),
+                            static_cast<Scalar>(-h * stress(j, g + sj) / mu)});
     }
   }
-  level.traction.shear.push_back(std::move(rule));
+  const auto count = static_cast<std::uint32_t>(candidates.size()) - first;
+  if (count > 0) level.traction.shear.push_back({level.global(i, g), first, count});
 }
 
 template <int Dim, typename Scalar>
@@ -575,9 +576,9 @@ std::vector<ByteShare> Level<Dim, Scalar>::byte_breakdown() const {
     for (const BandWork& work : color) schedules += sum(work.cell_blocks, work.point_rows);
   for (const auto* schedule : {&pre_restriction_schedule, &post_prolongation_schedule})
     for (const auto& color : *schedule) schedules += nested(color);
-  std::size_t rules = sum(traction.normal, traction.thin, traction.shear);
+  std::size_t rules =
+      sum(traction.normal, traction.thin, traction.shear, traction.shear_candidates);
   for (const auto& rule : traction.thin) rules += vector_bytes(rule.neighbors);
-  for (const auto& rule : traction.shear) rules += vector_bytes(rule.candidates);
   const auto csr_values = [&](const SparseRows<Scalar>& rows) {
     return sum(rows.start, rows.value, rows.constant);
   };
@@ -630,9 +631,8 @@ void shrink_band_arrays(Level<Dim, Scalar>& level) {
          level.band_p_extra, level.band_p_inverse, level.pre_restriction_rows,
          level.post_prolongation_rows, level.band_blocks, level.band_block_inverse,
          level.band_block_inverse_id, level.band_point_rows, level.traction.normal,
-         level.traction.thin, level.traction.shear);
+         level.traction.thin, level.traction.shear, level.traction.shear_candidates);
   for (auto& rule : level.traction.thin) rule.neighbors.shrink_to_fit();
-  for (auto& rule : level.traction.shear) rule.candidates.shrink_to_fit();
 }
 
 template <int Dim, typename Scalar>

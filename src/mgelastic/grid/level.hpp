@@ -24,6 +24,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -95,15 +96,25 @@ struct ShearTractionCandidate {
   Scalar sigma_term;
 };
 template <typename Scalar>
-struct ShearTractionRule {
+struct ShearTractionRule {  // u_i[face] = the mean of its candidates' values
   std::uint32_t face;
-  std::vector<ShearTractionCandidate<Scalar>> candidates;
+  std::uint32_t first, count;  // its candidates in TractionRules::shear_candidates
 };
 template <typename Scalar>
 struct TractionRules {
   std::vector<NormalTractionRule<Scalar>> normal;
   std::vector<ThinTractionRule<Scalar>> thin;
+  // Rules with at least one candidate; the candidates of all in one array (a vector per rule
+  // cost 32 bytes of header and allocation per rule, ~40 % of the rules' memory on the box).
   std::vector<ShearTractionRule<Scalar>> shear;
+  std::vector<ShearTractionCandidate<Scalar>> shear_candidates;
+  std::span<const ShearTractionCandidate<Scalar>> candidates(
+      const ShearTractionRule<Scalar>& rule) const {
+    return {shear_candidates.data() + rule.first, rule.count};
+  }
+  std::span<ShearTractionCandidate<Scalar>> candidates(const ShearTractionRule<Scalar>& rule) {
+    return {shear_candidates.data() + rule.first, rule.count};
+  }
 };
 
 // One named group of a level's arrays and the bytes it holds (Level::byte_breakdown).
@@ -192,7 +203,8 @@ struct Level {
   // A subset of band_u rows grouped the same way: per color, per block, rows in band_u order.
   using RowSchedule = std::array<std::vector<std::vector<std::uint32_t>>, (1 << Dim)>;
   // pre_restriction_rows and post_prolongation_rows as colored schedules, so that their extra
-  // sweeps run in parallel too.
+  // sweeps run in parallel too (Multigrid drops one whose set is the whole band: those sweeps
+  // are then the smoothing's band sweeps).
   RowSchedule pre_restriction_schedule, post_prolongation_schedule;
   // band_schedule with runs of equally shaped steps along x relaxed together (band_runs.hpp);
   // rebuild with build_band_runs after the band rows change (invalid ones are not used).

@@ -58,7 +58,7 @@ void replace_rule_stresses(Level<Dim, Scalar>& level, const BoundaryStress<Dim>&
   const double h = lat.h, mu = level.mu;
   for (auto& rule : level.traction.shear) {
     const int i = static_cast<int>(rule.face / n);
-    for (auto& candidate : rule.candidates) {
+    for (auto& candidate : level.traction.candidates(rule)) {
       // `plus` is u_j at the edge's own flat index (level.cpp add_shear_rule).
       const int j = static_cast<int>(candidate.plus / n);
       const double value = stress(sigma, i, j, lat.edge_center(i, j, candidate.plus % n));

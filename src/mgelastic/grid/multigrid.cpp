@@ -80,6 +80,17 @@ void release_sweep_data(Level<Dim, double>& level) {
   drop_band_csr(level);
 }
 
+// relocation_sweeps runs the smoothing's band sweeps where a Fig. 8 set is the whole band (every
+// band row of the box), so the colored schedule of that set is never read.
+template <int Dim, typename Scalar>
+void drop_whole_band_schedules(Level<Dim, Scalar>& level) {
+  using Schedule = typename Level<Dim, Scalar>::RowSchedule;
+  if (level.pre_restriction_rows.size() == level.band_kernel.rows())
+    level.pre_restriction_schedule = Schedule();
+  if (level.post_prolongation_rows.size() == level.band_kernel.rows())
+    level.post_prolongation_schedule = Schedule();
+}
+
 // The solution level is built from the finest level's lattice and typing, so its variable kinds
 // and relaxation classes are the float level's; it reads those instead of a second copy (checked,
 // so a typing that differed would keep its own).
@@ -215,7 +226,10 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
     build_levels(problem, lattices, cells, weights);
     try {
       m_coarse = std::make_unique<CoarseSolver<Dim, Scalar>>(m_levels.back());
-      for (Level<Dim, Scalar>& level : m_levels) drop_band_csr(level);
+      for (Level<Dim, Scalar>& level : m_levels) {
+        drop_band_csr(level);
+        drop_whole_band_schedules(level);
+      }
       break;
     } catch (const SingularCoarseLevel&) {
       if (lattices.size() == 1) throw;
