@@ -181,5 +181,43 @@ TEST(LiveChunks, ZeroLoadPagesAreReleasedAndStayUnwritten) {
   EXPECT_EQ(again, zero_bytes);
 }
 
+// Single precision: the float finest level holds the solution and its b the loads, released the
+// same way; the same residuals as without releasing; level() (the mutable access) forgets them.
+TEST(LiveChunks, ZeroLoadPagesOfTheSinglePrecisionFinestLevel) {
+  BoxSpec spec;
+  spec.cells = 80;
+  spec.poisson_ratio = 0.3;
+  const ElasticityProblem<3> problem = make_box_problem<3>(spec);
+  MultigridOptions options;
+  options.mixed_precision = false;
+  MultigridOptions kept_options = options;
+  kept_options.release_dead_pages = false;
+  Multigrid<3, float> released(problem, options), kept(problem, kept_options);
+  ASSERT_TRUE(released.single_precision());
+  const Level<3, float>& fine = released.finest();
+  std::size_t zero_bytes = 0;
+  for (int f : {0, 2, 3}) {
+    EXPECT_GT(fine.zero_load_bytes(f), fine.b[f].size() * sizeof(float) * 9 / 10) << f;
+    zero_bytes += fine.zero_load_bytes(f);
+  }
+  zero_bytes += fine.zero_load_bytes(1);
+  EXPECT_EQ(kept.bytes() - released.bytes(), zero_bytes);
+  std::vector<double> released_residuals{released.residual()}, kept_residuals{kept.residual()};
+  for (int cycle = 0; cycle < 3; ++cycle) {
+    released_residuals.push_back(released.vcycle());
+    kept_residuals.push_back(kept.vcycle());
+  }
+  EXPECT_EQ(released_residuals, kept_residuals);
+  long written = 0;
+  for (const auto& pages : fine.zero_load_pages) {
+    const long w = written_pages(pages);
+    if (w < 0) GTEST_SKIP() << "/proc/self/pagemap is not readable here";
+    written += w;
+  }
+  EXPECT_EQ(written, 0);
+  released.level(0);
+  for (int f = 0; f <= 3; ++f) EXPECT_EQ(fine.zero_load_bytes(f), 0u) << f;
+}
+
 }  // namespace
 }  // namespace mgelastic::grid

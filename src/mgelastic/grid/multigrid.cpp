@@ -258,6 +258,8 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
     set_dirichlet_values(m_levels.front(), problem.dirichlet_displacement);
     write_load_right_hand_side(problem, m_levels.front());
     back_substitute_traction(m_levels.front());
+    // The finest level holds the solution: only loads write its b too (level() forgets).
+    if (m_options.release_dead_pages) release_zero_load_pages(m_levels.front());
   }
 }
 
@@ -303,6 +305,7 @@ void Multigrid<Dim, Scalar>::set_loads(const ElasticityProblem<Dim>& problem) {
     if (m_options.release_dead_pages) release_zero_load_pages(*m_solution);
   } else {
     replace_loads(m_levels.front(), problem);
+    if (m_options.release_dead_pages) release_zero_load_pages(m_levels.front());
   }
   m_solution_residual_current = false;
 }

@@ -164,6 +164,8 @@ class Multigrid {
   int levels() const { return static_cast<int>(m_levels.size()); }
   Level<Dim, Scalar>& level(int l) {
     m_solution_residual_current = false;  // the caller may change the finest level's b
+    // ... and write into its released zero load pages: count them again (conservative).
+    for (auto& pages : m_levels[l].zero_load_pages) pages.clear();
     return m_levels[l];
   }
   const Level<Dim, Scalar>& level(int l) const { return m_levels[l]; }

@@ -18,11 +18,11 @@ namespace mgelastic::grid {
 template <int Dim, typename Scalar>
 Level<Dim, double>& Multigrid<Dim, Scalar>::solution_level() {
   m_solution_residual_current = false;  // the caller may change x or b
-  // b's released zero pages may be written from now on: count them again (conservative).
-  if (m_solution)
-    for (auto& pages : m_solution->zero_load_pages) pages.clear();
   const auto& self = *this;
-  return const_cast<Level<Dim, double>&>(self.solution_level());
+  auto& level = const_cast<Level<Dim, double>&>(self.solution_level());
+  // b's released zero pages may be written from now on: count them again (conservative).
+  for (auto& pages : level.zero_load_pages) pages.clear();
+  return level;
 }
 
 template <int Dim, typename Scalar>
