@@ -173,7 +173,7 @@ ElasticityProblem<3> gravity_box(double poisson_ratio) {
 }
 
 // Mixed precision: the double solution level's b. The accounting counts the pages again once a
-// caller takes the level for writing; set_loads releases them again.
+// caller takes the level for writing (and a copy has none); set_loads releases them again.
 TEST(LiveChunks, ZeroLoadPagesAreReleasedAndStayUnwritten) {
   const ElasticityProblem<3> problem = gravity_box(0.45);
   MultigridOptions kept_options;
@@ -183,6 +183,8 @@ TEST(LiveChunks, ZeroLoadPagesAreReleasedAndStayUnwritten) {
   std::size_t zero_bytes = 0;
   for (int f = 0; f <= 3; ++f) zero_bytes += solution.zero_load_bytes(f);
   expect_zero_load_pages(released, kept, solution);
+  const Level<3, double> copy = solution;  // new arrays: none of them released
+  for (int f = 0; f <= 3; ++f) EXPECT_EQ(copy.zero_load_bytes(f), 0u) << f;
   released.solution_level();
   for (int f = 0; f <= 3; ++f) EXPECT_EQ(solution.zero_load_bytes(f), 0u) << f;
   released.set_loads(problem);

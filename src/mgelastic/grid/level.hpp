@@ -117,6 +117,30 @@ struct TractionRules {
   }
 };
 
+// Per field, address stretches [begin, end) of a level's own arrays: valid while those arrays
+// are not reallocated, so a copied level (new arrays) starts without any; a move keeps them.
+template <std::size_t Fields>
+class FieldStretches {
+ public:
+  using Stretches = std::vector<std::pair<std::uintptr_t, std::uintptr_t>>;
+  FieldStretches() = default;
+  FieldStretches(const FieldStretches&) {}
+  FieldStretches(FieldStretches&&) noexcept = default;
+  FieldStretches& operator=(const FieldStretches&) {
+    clear();
+    return *this;
+  }
+  FieldStretches& operator=(FieldStretches&&) noexcept = default;
+  Stretches& operator[](std::size_t field) { return m_fields[field]; }
+  const Stretches& operator[](std::size_t field) const { return m_fields[field]; }
+  void clear() {
+    for (Stretches& stretches : m_fields) stretches.clear();
+  }
+
+ private:
+  std::array<Stretches, Fields> m_fields;
+};
+
 // One named group of a level's arrays and the bytes it holds (Level::byte_breakdown).
 struct ByteShare {
   std::string name;
@@ -150,7 +174,7 @@ struct Level {
   // Per field, the stretches [begin, end) of b's pages that release_zero_load_pages handed back
   // because they held only zeros (beyond the dead chunks'); cleared once a writer may have
   // filled them again, so the memory accounting counts them then.
-  std::array<std::vector<std::pair<std::uintptr_t, std::uintptr_t>>, Dim + 1> zero_load_pages;
+  FieldStretches<Dim + 1> zero_load_pages;
   std::size_t zero_load_bytes(int field) const;
   // One byte per variable and field each; the double solution level of a mixed-precision solve
   // shares them with the float finest level (shared_field_arrays.hpp).
@@ -246,9 +270,9 @@ void set_dirichlet_values(Level<Dim, Scalar>& level,
                           const std::function<Vec<Dim>(const Vec<Dim>&)>& displacement);
 
 // Hands back the pages of b that hold only zeros (release_zero_pages, live_chunks.hpp) and
-// records them in zero_load_pages. For a right-hand side that only its loads write (the
-// double solution level of a mixed-precision solve): gravity along y leaves b of u_x, u_z and p
-// zero, 3/4 of its bytes.
+// records them in zero_load_pages. For a right-hand side that only its loads write (the level
+// holding the solution: the double solution level of a mixed-precision solve, else the finest):
+// gravity along y leaves b of u_x, u_z and p zero, 3/4 of its bytes.
 template <int Dim, typename Scalar>
 void release_zero_load_pages(Level<Dim, Scalar>& level);
 

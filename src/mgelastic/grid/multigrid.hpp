@@ -72,7 +72,7 @@ struct MultigridOptions {
   bool mixed_precision = true;
   // Hand the pages of the fields that hold no variable (most of an embedded body's bounding
   // box) back to the operating system and skip them in whole-array passes (live_chunks.hpp),
-  // and the pages of the solution level's loads that hold only zeros (release_zero_load_pages).
+  // and the pages of the loads that hold only zeros (release_zero_load_pages).
   // The same results either way; false is for comparisons.
   bool release_dead_pages = true;
 };
@@ -165,7 +165,7 @@ class Multigrid {
   Level<Dim, Scalar>& level(int l) {
     m_solution_residual_current = false;  // the caller may change the finest level's b
     // ... and write into its released zero load pages: count them again (conservative).
-    for (auto& pages : m_levels[l].zero_load_pages) pages.clear();
+    m_levels[l].zero_load_pages.clear();
     return m_levels[l];
   }
   const Level<Dim, Scalar>& level(int l) const { return m_levels[l]; }

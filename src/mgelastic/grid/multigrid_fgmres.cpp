@@ -21,7 +21,7 @@ Level<Dim, double>& Multigrid<Dim, Scalar>::solution_level() {
   const auto& self = *this;
   auto& level = const_cast<Level<Dim, double>&>(self.solution_level());
   // b's released zero pages may be written from now on: count them again (conservative).
-  for (auto& pages : level.zero_load_pages) pages.clear();
+  level.zero_load_pages.clear();
   return level;
 }
 
