@@ -252,15 +252,23 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
     set_dirichlet_values(*m_solution, problem.dirichlet_displacement);
     write_load_right_hand_side(problem, *m_solution);
     back_substitute_traction(*m_solution);
-    // Only loads write its b (solution_level() forgets the record).
-    if (m_options.release_dead_pages) release_zero_load_pages(*m_solution);
   } else {
     set_dirichlet_values(m_levels.front(), problem.dirichlet_displacement);
     write_load_right_hand_side(problem, m_levels.front());
     back_substitute_traction(m_levels.front());
-    // The finest level holds the solution: only loads write its b too (level() forgets).
-    if (m_options.release_dead_pages) release_zero_load_pages(m_levels.front());
   }
+  release_zero_loads();
+}
+
+// Only loads write the b of the level holding the solution (solution_level() and level(), the
+// mutable accesses, forget the record).
+template <int Dim, typename Scalar>
+void Multigrid<Dim, Scalar>::release_zero_loads() {
+  if (!m_options.release_dead_pages) return;
+  if (m_solution)
+    release_zero_load_pages(*m_solution);
+  else
+    release_zero_load_pages(m_levels.front());
 }
 
 template <int Dim, typename Scalar>
@@ -302,11 +310,10 @@ template <int Dim, typename Scalar>
 void Multigrid<Dim, Scalar>::set_loads(const ElasticityProblem<Dim>& problem) {
   if (m_solution) {
     replace_loads(*m_solution, problem);
-    if (m_options.release_dead_pages) release_zero_load_pages(*m_solution);
   } else {
     replace_loads(m_levels.front(), problem);
-    if (m_options.release_dead_pages) release_zero_load_pages(m_levels.front());
   }
+  release_zero_loads();
   m_solution_residual_current = false;
 }
 
@@ -578,8 +585,8 @@ void Multigrid<Dim, Scalar>::set_solution_state(const SolutionState& x) {
   if (single_precision()) {
     copy_solution_state(x, m_levels.front().x, m_levels.front().live);
   } else {
-    // Not through solution_level(), which would forget the released zero pages of b.
-    Level<Dim, double>& solution = m_solution ? *m_solution : solution_level();
+    // Only x changes: not through the mutable solution_level(), which forgets b's zero pages.
+    auto& solution = const_cast<Level<Dim, double>&>(std::as_const(*this).solution_level());
     copy_solution_state(x, solution.x, solution.live);
   }
   m_solution_residual_current = false;

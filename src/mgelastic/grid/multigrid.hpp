@@ -218,6 +218,8 @@ class Multigrid {
     std::array<std::vector<Scalar>, Dim + 1> single;
     bool packed = false;  // the arrays hold the live chunks only (live_chunks.hpp: pack_live)
   };
+  // release_zero_load_pages on the level that holds the loads (the solution's), if enabled.
+  void release_zero_loads();
   StartState capture_start() const;
   void restore_start(const StartState& start);
   [[noreturn]] void fail_diverged(const std::string& what, const std::string& reason,
