@@ -72,7 +72,7 @@ TEST_F(BackwardEulerDynamics, FreeFallIsExact) {
   double worst = 0;
   for (int i = 0; i < 3; ++i)
     for (std::size_t k = 0; k < level.size(); ++k)
-      if (level.kind[i][k] != VarKind::INACTIVE)
+      if (level.kind(i, k) != VarKind::INACTIVE)
         worst = std::max(worst, std::abs(level.x[i][k] - (i == 1 ? expected : 0.0)));
   EXPECT_LT(worst, 1e-8 * std::abs(expected));
 }
@@ -92,7 +92,7 @@ TEST_F(BackwardEulerDynamics, RigidDrivingWithMatchingInitialVelocityStaysRigid)
   double worst = 0;
   for (int i = 0; i < 3; ++i)
     for (std::size_t k = 0; k < level.size(); ++k)
-      if (level.kind[i][k] != VarKind::INACTIVE)
+      if (level.kind(i, k) != VarKind::INACTIVE)
         worst = std::max(worst, std::abs(level.x[i][k] - speed[i] * sim.time()));
   EXPECT_LT(worst, 1e-6 * speed.norm() * sim.time());
 }
@@ -248,7 +248,7 @@ TEST_F(BackwardEulerDynamics, DivergedStepThrowsNamingTheTime) {
   sim.step();
   const auto& level = sim.multigrid().solution_level();
   const std::ptrdiff_t k = level.lattice.index(IVec<3>(10, 4, 4));
-  ASSERT_EQ(level.kind[1][k], VarKind::INTERIOR);
+  ASSERT_EQ(level.kind(1, k), VarKind::INTERIOR);
   sim.velocity()[1][k] = std::nan("");  // what a blown-up step would leave
   try {
     sim.step();

@@ -89,13 +89,13 @@ TEST(BandSmoother, BandSweepsConvergeWithInteriorFixed) {
   std::normal_distribution<double> normal;
   for (int f = 0; f <= 3; ++f)
     for (std::size_t k = 0; k < level.size(); ++k)
-      if (level.kind[f][k] == VarKind::INTERIOR) level.b[f][k] = normal(rng);
+      if (level.kind(f, k) == VarKind::INTERIOR) level.b[f][k] = normal(rng);
   auto band_norm = [&] {
     compute_residual(level);
     double sum = 0;
     for (int f = 0; f <= 3; ++f)
       for (std::size_t k = 0; k < level.size(); ++k)
-        if (level.relaxation[f][k] == Relaxation::BAND) sum += level.r[f][k] * level.r[f][k];
+        if (level.relaxation(f, k) == Relaxation::BAND) sum += level.r[f][k] * level.r[f][k];
     return std::sqrt(sum);
   };
   const double before = band_norm();
@@ -125,7 +125,7 @@ TEST(BandSmoother, BackSubstitutionSatisfiesNormalTractions) {
   std::normal_distribution<double> normal;
   for (int f = 0; f <= 2; ++f)
     for (std::size_t k = 0; k < level.size(); ++k)
-      if (level.kind[f][k] == VarKind::INTERIOR) level.x[f][k] = 1e-3 * normal(rng);
+      if (level.kind(f, k) == VarKind::INTERIOR) level.x[f][k] = 1e-3 * normal(rng);
   back_substitute_traction(level);
   ASSERT_FALSE(level.traction.normal.empty());
   const double mu = level.mu, h = level.lattice.h;
@@ -256,7 +256,7 @@ void expect_runs_equal_steps(const ElasticityProblem<Dim>& problem, double min_r
   std::normal_distribution<double> normal;
   for (int f = 0; f <= Dim; ++f) {
     for (std::size_t k = 0; k < level.size(); ++k) {
-      if (level.kind[f][k] != VarKind::INTERIOR) continue;
+      if (level.kind(f, k) != VarKind::INTERIOR) continue;
       level.x[f][k] = normal(rng);
       level.b[f][k] = 1e5 * normal(rng);
     }
@@ -310,7 +310,7 @@ Level<Dim, double> randomized_finest(const ElasticityProblem<Dim>& problem) {
   std::normal_distribution<double> normal;
   for (int f = 0; f <= Dim; ++f)
     for (std::size_t k = 0; k < level.size(); ++k) {
-      if (level.kind[f][k] != VarKind::INTERIOR) continue;
+      if (level.kind(f, k) != VarKind::INTERIOR) continue;
       level.x[f][k] = normal(rng);
       level.b[f][k] = 1e5 * normal(rng);
     }

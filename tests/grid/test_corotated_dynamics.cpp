@@ -207,7 +207,7 @@ TEST_F(CorotatedDynamics, DivergedStepThrowsNamingTheTime) {
   sim.step();
   const auto& level = sim.multigrid().solution_level();
   const std::ptrdiff_t k = level.lattice.index(IVec<3>(10, 2, 2));
-  ASSERT_EQ(level.kind[1][k], VarKind::INTERIOR);
+  ASSERT_EQ(level.kind(1, k), VarKind::INTERIOR);
   sim.velocity()[1][k] = std::nan("");  // what a blown-up step would leave
   try {
     sim.step();

@@ -30,7 +30,7 @@ CorotatedOptions every_cycle() {
 double tip_deflection(const Level<3, double>& level) {
   double tip = 0;
   for (std::size_t k = 0; k < level.size(); ++k)
-    if (level.kind[1][k] == VarKind::INTERIOR) tip = std::min(tip, level.x[1][k]);
+    if (level.kind(1, k) == VarKind::INTERIOR) tip = std::min(tip, level.x[1][k]);
   return tip;
 }
 

@@ -26,7 +26,7 @@ double max_face_error(const Level<3, double>& level, const Field& expected) {
   double worst = 0;
   for (int i = 0; i < 3; ++i)
     for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(level.size()); ++k) {
-      const VarKind kind = level.kind[i][k];
+      const VarKind kind = level.kind(i, k);
       if (kind != VarKind::INTERIOR && kind != VarKind::DIRICHLET) continue;
       worst =
           std::max(worst, std::abs(level.x[i][k] - expected(level.lattice.face_center(i, k))[i]));
@@ -126,7 +126,7 @@ TEST(CorotatedMultigrid, SmallDeformationsAgreeWithTheLinearModel) {
   double difference = 0, size = 0;
   for (int i = 0; i < 3; ++i)
     for (std::size_t k = 0; k < linear.finest().size(); ++k) {
-      if (linear.finest().kind[i][k] != VarKind::INTERIOR) continue;
+      if (linear.finest().kind(i, k) != VarKind::INTERIOR) continue;
       difference = std::max(difference, std::abs(corotated.solution_level().x[i][k] -
                                                  linear.solution_level().x[i][k]));
       size = std::max(size, std::abs(linear.solution_level().x[i][k]));
@@ -166,7 +166,7 @@ TEST(CorotatedMultigrid, NonlinearResidualOfABentNearlyIncompressibleBarDropsPer
     double tip = 0;
     const auto& level = corotated.solution_level();
     for (std::size_t k = 0; k < level.size(); ++k)
-      if (level.kind[1][k] == VarKind::INTERIOR) tip = std::min(tip, level.x[1][k]);
+      if (level.kind(1, k) == VarKind::INTERIOR) tip = std::min(tip, level.x[1][k]);
     const double rate = mean_rate(report.nonlinear);
     const double quasi_linear_rate = mean_rate(report.quasi_linear);
     std::printf(

@@ -71,7 +71,7 @@ TEST(Corotation, RigidlyRotatedBoxHasItsRotationInEveryCell) {
   // u = (Q - I) X at every active face.
   for (int i = 0; i < 3; ++i)
     for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(level.size()); ++k)
-      if (level.kind[i][k] != VarKind::INACTIVE) {
+      if (level.kind(i, k) != VarKind::INACTIVE) {
         const Eigen::Vector3d x = level.lattice.face_center(i, k);
         level.x[i][k] = ((q - Matrix<3>::Identity()) * x)[i];
       }
@@ -101,7 +101,7 @@ TEST(Corotation, UniformStretchAndShearHaveNoRotation) {
   g << 0.1, 0.05, 0.0, 0.05, -0.02, 0.03, 0.0, 0.03, 0.04;
   for (int i = 0; i < 3; ++i)
     for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(level.size()); ++k)
-      if (level.kind[i][k] != VarKind::INACTIVE)
+      if (level.kind(i, k) != VarKind::INACTIVE)
         level.x[i][k] = (g * level.lattice.face_center(i, k))[i];
   const auto rotations = cell_rotations(level);
   for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(level.size()); ++k) {

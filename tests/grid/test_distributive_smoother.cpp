@@ -27,7 +27,7 @@ Level<3, Scalar> random_level(double poisson, unsigned seed, double inertia = 0.
   std::normal_distribution<double> normal;
   for (int f = 0; f <= 3; ++f) {
     for (std::size_t k = 0; k < level.size(); ++k) {
-      if (level.kind[f][k] != VarKind::INTERIOR) continue;
+      if (level.kind(f, k) != VarKind::INTERIOR) continue;
       level.x[f][k] = static_cast<Scalar>(1e-3 * normal(rng));
       level.b[f][k] = static_cast<Scalar>(normal(rng));
     }
@@ -48,7 +48,7 @@ TEST_P(DistributiveSweep, ReducesInteriorResidualIndependentlyOfPoissonRatio) {
     double sum = 0;
     for (int f = 0; f <= 3; ++f)
       for (std::size_t k = 0; k < level.size(); ++k)
-        if (level.relaxation[f][k] == Relaxation::DISTRIBUTIVE)
+        if (level.relaxation(f, k) == Relaxation::DISTRIBUTIVE)
           sum += level.r[f][k] * level.r[f][k];
     return std::sqrt(sum);
   };
@@ -75,7 +75,7 @@ TEST(DistributiveSweep, PressureStepZeroesPressureResidualOfTheLastCell) {
   for (const auto& color : level.blocks.colors)
     for (const auto& block : color)
       for_each_in_block(level.lattice, block, [&](std::ptrdiff_t k) {
-        if (level.relaxation[3][k] == Relaxation::DISTRIBUTIVE) last = k;
+        if (level.relaxation(3, k) == Relaxation::DISTRIBUTIVE) last = k;
       });
   ASSERT_GE(last, 0);
   EXPECT_NEAR(level.r[3][last], 0.0, 1e-9 * std::abs(level.b[3][last]) + 1e-12);
@@ -97,7 +97,7 @@ void reference_sweep(Level<3, double>& level) {
   const double inv_h = 1.0 / level.lattice.h, inv_h2 = inv_h * inv_h;
   const StencilConstants<3, double> sc{mu, inv_h, inv_h2};
   auto momentum = [&]<int Axis>(std::ptrdiff_t k) {
-    if (level.relaxation[Axis][k] != Relaxation::DISTRIBUTIVE) return;
+    if (level.relaxation(Axis, k) != Relaxation::DISTRIBUTIVE) return;
     const double r =
         level.b[Axis][k] - momentum_row<3, double, Axis>(uc, p, s, k, sc) + c * u[Axis][k];
     const double delta = -r / (6 * mu * inv_h2 + c);
@@ -106,7 +106,7 @@ void reference_sweep(Level<3, double>& level) {
     p[k - s[Axis]] += delta * inv_h;
   };
   auto pressure = [&](std::ptrdiff_t k) {
-    if (level.relaxation[3][k] != Relaxation::DISTRIBUTIVE) return;
+    if (level.relaxation(3, k) != Relaxation::DISTRIBUTIVE) return;
     const double r =
         lambda * (level.b[3][k] - mu * divergence<3, double>(uc, s, k, inv_h)) - mu * mu * p[k];
     auto interior = [&](std::ptrdiff_t j) { return level.cells[j] == CellType::INTERIOR; };

@@ -50,7 +50,7 @@ double box_error(int n) {
   const auto& level = mg.finest();
   for (int i = 0; i < 2; ++i)
     for (std::size_t k = 0; k < level.size(); ++k)
-      if (level.kind[i][k] == VarKind::INTERIOR)
+      if (level.kind(i, k) == VarKind::INTERIOR)
         error = std::max(error, std::abs(mg.solution(i, k) -
                                          exact.displacement(level.lattice.face_center(i, k))[i]));
   return error;
@@ -119,7 +119,7 @@ Vec<Dim> force_on_rows(int n, Vec<Dim>& applied) {
   Vec<Dim> total = Vec<Dim>::Zero();
   for (int i = 0; i < Dim; ++i)
     for (std::size_t k = 0; k < level.size(); ++k)
-      if (level.kind[i][k] == VarKind::INTERIOR) total[i] += rows.momentum(i, k).constant * volume;
+      if (level.kind(i, k) == VarKind::INTERIOR) total[i] += rows.momentum(i, k).constant * volume;
   for (const auto& load : problem.variable_loads) total[load.component] += load.density * volume;
   return total;
 }
@@ -131,7 +131,8 @@ TEST(EmbeddedTraction, ForceOnCurvedStaircaseIsConserved2D) {
     Vec<2> applied;
     const Vec<2> seen = force_on_rows<2>(n, applied);
     // Sums of a few thousand terms: round-off relative to the largest component.
-    EXPECT_LE((seen - applied).norm(), mgelastic::test::kStencilRoundoff * applied.norm()) << "n = " << n;
+    EXPECT_LE((seen - applied).norm(), mgelastic::test::kStencilRoundoff * applied.norm())
+        << "n = " << n;
   }
 }
 

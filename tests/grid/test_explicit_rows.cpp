@@ -22,9 +22,9 @@ void expect_symmetric_coupling(const ElasticityProblem<Dim>& problem) {
   const auto n = level.size();
   int checked = 0;
   for (std::size_t c = 0; c < n; ++c) {
-    if (level.kind[Dim][c] != VarKind::INTERIOR) continue;
+    if (level.kind(Dim, c) != VarKind::INTERIOR) continue;
     for (const RowTerm& t : builder.pressure(c).terms) {
-      if (level.kind[t.variable / n][t.variable % n] != VarKind::INTERIOR) continue;
+      if (level.kind(t.variable / n, t.variable % n) != VarKind::INTERIOR) continue;
       const ExplicitRow row = builder.momentum(static_cast<int>(t.variable / n), t.variable % n);
       double g = 0;
       for (const RowTerm& m : row.terms)
@@ -66,7 +66,7 @@ TEST(ExplicitRows, MatchUniformStencilAwayFromTraction) {
   int compared = 0;
   for (std::size_t k = 0; k < level.size(); ++k) {
     const IVec<3> q = level.lattice.coords(k);
-    if (level.kind[0][k] != VarKind::INTERIOR || q[1] < 3 || q[1] > 6 || q[2] < 3 || q[2] > 6)
+    if (level.kind(0, k) != VarKind::INTERIOR || q[1] < 3 || q[1] > 6 || q[2] < 3 || q[2] > 6)
       continue;
     double explicit_value = 0;
     for (const RowTerm& t : builder.momentum(0, k).terms)

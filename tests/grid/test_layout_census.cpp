@@ -17,7 +17,7 @@ const std::vector<std::array<int, 3>> kSizes{{4, 4, 4}, {8, 8, 8}, {32, 8, 4}, {
 template <int Dim, typename Scalar>
 bool has_variable(const Level<Dim, Scalar>& level, std::ptrdiff_t k) {
   for (int f = 0; f <= Dim; ++f)
-    if (level.kind[f][k] != VarKind::INACTIVE) return true;
+    if (level.kind(f, k) != VarKind::INACTIVE) return true;
   return false;
 }
 

@@ -87,7 +87,7 @@ TEST(LiveChunks, HoldEveryVariableAndItsNeighbourRows) {
   const auto n = static_cast<std::ptrdiff_t>(level.size());
   for (int f = 0; f <= 3; ++f)
     for (std::ptrdiff_t k = 0; k < n; ++k) {
-      if (level.kind[f][k] == VarKind::INACTIVE) continue;
+      if (level.kind(f, k) == VarKind::INACTIVE) continue;
       for (std::ptrdiff_t d : {std::ptrdiff_t{0}, -sy, sy, -sz, sz})
         if (k + d >= 0 && k + d < n) {
           ASSERT_TRUE(level.live.any_live(k + d, k + d + 1)) << k;

@@ -32,7 +32,7 @@ double max_error(int n, double poisson, bool traction) {
   double error = 0;
   for (int i = 0; i < Dim; ++i) {
     for (std::size_t k = 0; k < level.size(); ++k) {
-      if (level.kind[i][k] != VarKind::INTERIOR) continue;
+      if (level.kind(i, k) != VarKind::INTERIOR) continue;
       const double u = exact.displacement(level.lattice.face_center(i, k))[i];
       error = std::max(error, std::abs(level.x[i][k] - u));
     }

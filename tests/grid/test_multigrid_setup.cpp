@@ -14,7 +14,7 @@ double max_difference(const Multigrid<3, double>& a, const Multigrid<3, double>&
   const auto& level = a.finest();
   for (int f = 0; f < 3; ++f)
     for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(level.size()); ++k)
-      if (level.kind[f][k] != VarKind::INACTIVE)
+      if (level.kind(f, k) != VarKind::INACTIVE)
         worst = std::max(worst, std::abs(a.solution(f, k) - b.solution(f, k)));
   return worst;
 }
@@ -41,19 +41,28 @@ TEST(MultigridSetup, SolutionLevelSharesTheFinestLevelsVariableCodes) {
   Multigrid<3, float> mg(problem);
   const Level<3, float>& fine = mg.finest();
   const Level<3, double>& solution = mg.solution_level();
-  for (int f = 0; f <= 3; ++f) {
-    EXPECT_EQ(solution.kind[f].data(), fine.kind[f].data()) << f;
-    EXPECT_EQ(solution.relaxation[f].data(), fine.relaxation[f].data()) << f;
-  }
+  EXPECT_EQ(solution.codes.data(), fine.codes.data());
+  EXPECT_TRUE(fine.codes.owns());
+  EXPECT_FALSE(solution.codes.owns());
+  bool counted = false;
   for (const ByteShare& share : solution.byte_breakdown())
-    if (share.name == "kind" || share.name == "relaxation") {
+    if (share.name == "variable codes (kind, relaxation)") {
       EXPECT_EQ(share.bytes, 0u);
+      counted = true;
+    }
+  EXPECT_TRUE(counted);
+  for (const ByteShare& share : fine.byte_breakdown())
+    if (share.name == "variable codes (kind, relaxation)") {
+      EXPECT_EQ(share.bytes, fine.codes.bytes());
+      EXPECT_GE(share.bytes, fine.size() * sizeof(VarCode));
     }
   Level<3, double> copy = solution;
-  ASSERT_EQ(copy.kind[0], fine.kind[0]);
-  EXPECT_NE(copy.kind[0].data(), fine.kind[0].data());
-  copy.kind[0][0] = VarKind::INTERIOR;
-  EXPECT_EQ(fine.kind[0][0], VarKind::INACTIVE);  // the corner ghost point
+  ASSERT_EQ(copy.codes.codes(), fine.codes.codes());
+  EXPECT_NE(copy.codes.data(), fine.codes.data());
+  EXPECT_TRUE(copy.codes.owns());
+  copy.codes.set_kind(0, 0, VarKind::INTERIOR);
+  EXPECT_EQ(copy.kind(0, 0), VarKind::INTERIOR);
+  EXPECT_EQ(fine.kind(0, 0), VarKind::INACTIVE);  // the corner ghost point
   EXPECT_TRUE(mg.solve(1e-8, 30).converged);
 }
 

@@ -77,7 +77,7 @@ void expect_residual_equals_pointwise(int cells, double inertia) {
   std::size_t stencil_rows = 0, band_rows = 0;
   for (int f = 0; f <= Dim; ++f) {
     for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(level.size()); ++k) {
-      const Relaxation relax = level.relaxation[f][k];
+      const Relaxation relax = level.relaxation(f, k);
       if (relax == Relaxation::NONE) {
         ASSERT_EQ(level.r[f][k], Scalar(0)) << "field " << f << " at " << k;
         continue;

@@ -37,13 +37,13 @@ TEST(Transfer, RestrictionPreservesConstants) {
   ensure_residual_storage(levels.fine);
   for (int f = 0; f <= 3; ++f)
     for (std::size_t k = 0; k < levels.fine.size(); ++k)
-      levels.fine.r[f][k] = levels.fine.kind[f][k] == VarKind::INTERIOR ? 2.5 : 0.0;
+      levels.fine.r[f][k] = levels.fine.kind(f, k) == VarKind::INTERIOR ? 2.5 : 0.0;
   restrict_residual(levels.fine, levels.coarse);
   int checked = 0;
   for (int f = 0; f <= 3; ++f) {
     for (std::size_t k = 0; k < levels.coarse.size(); ++k) {
       const IVec<3> s = levels.coarse.lattice.coords(k);
-      if (levels.coarse.kind[f][k] != VarKind::INTERIOR || s.minCoeff() < 3 || s.maxCoeff() > 6)
+      if (levels.coarse.kind(f, k) != VarKind::INTERIOR || s.minCoeff() < 3 || s.maxCoeff() > 6)
         continue;
       EXPECT_DOUBLE_EQ(levels.coarse.b[f][k], 2.5);
       ++checked;
@@ -99,7 +99,7 @@ TEST(Transfer, RowWiseRestrictionEqualsReferenceSums) {
       int checked = 0;
       for (int f = 0; f <= 3; ++f) {
         for (std::size_t k = 0; k < coarse.size(); ++k) {
-          if (coarse.kind[f][k] != VarKind::INTERIOR) {
+          if (coarse.kind(f, k) != VarKind::INTERIOR) {
             ASSERT_EQ(coarse.b[f][k], 0.0);
             continue;
           }
@@ -150,7 +150,7 @@ TEST(Transfer, PairedProlongationEqualsTensorProductInterpolation) {
     double difference = 0.0;
     for (int f = 0; f < 3; ++f) {
       for (std::size_t k = 0; k < fine.size(); ++k) {
-        if (fine.kind[f][k] != VarKind::INTERIOR) continue;
+        if (fine.kind(f, k) != VarKind::INTERIOR) continue;
         const IVec<3> s = fine.lattice.coords(k);
         std::array<std::vector<std::pair<int, double>>, 3> taps;
         for (int a = 0; a < 3; ++a) taps[a] = prolongation_taps_of(s[a], a == f);
@@ -160,7 +160,7 @@ TEST(Transfer, PairedProlongationEqualsTensorProductInterpolation) {
           for (const auto& [j, wj] : taps[1])
             for (const auto& [l, wl] : taps[2]) {
               const auto ck = coarse.lattice.index(IVec<3>(i, j, l));
-              const VarKind kind = coarse.kind[f][ck];
+              const VarKind kind = coarse.kind(f, ck);
               all_active = all_active && (kind == VarKind::INTERIOR || kind == VarKind::TRACTION);
               expected += wi * wj * wl * coarse.x[f][ck];
             }
@@ -181,7 +181,7 @@ TEST(Transfer, ProlongationReproducesLinearFields) {
   auto linear = [](const Vec<3>& x) { return 0.3 + 1.5 * x[0] - 0.7 * x[1] + 0.2 * x[2]; };
   for (int f = 0; f < 3; ++f)
     for (std::size_t k = 0; k < levels.coarse.size(); ++k)
-      if (levels.coarse.kind[f][k] != VarKind::INACTIVE)
+      if (levels.coarse.kind(f, k) != VarKind::INACTIVE)
         levels.coarse.x[f][k] = linear(levels.coarse.lattice.face_center(f, k));
   for (auto& field : levels.fine.x) std::fill(field.begin(), field.end(), 0.0);
   prolongate_correction(levels.coarse, levels.fine);
@@ -189,7 +189,7 @@ TEST(Transfer, ProlongationReproducesLinearFields) {
   for (int f = 0; f < 3; ++f) {
     for (std::size_t k = 0; k < levels.fine.size(); ++k) {
       const IVec<3> s = levels.fine.lattice.coords(k);
-      if (levels.fine.kind[f][k] != VarKind::INTERIOR || s.minCoeff() < 5 || s.maxCoeff() > 12)
+      if (levels.fine.kind(f, k) != VarKind::INTERIOR || s.minCoeff() < 5 || s.maxCoeff() > 12)
         continue;
       EXPECT_NEAR(levels.fine.x[f][k], linear(levels.fine.lattice.face_center(f, k)), 1e-12);
       ++checked;
@@ -206,7 +206,7 @@ TEST(Transfer, ProlongationVanishesOnDirichletWalls) {
   // tangential component u_1 with the field 5 (x - 2h), which vanishes on that wall.
   auto field = [&](const Vec<3>& x) { return 5.0 * (x[0] - 2 * levels.fine.lattice.h); };
   for (std::size_t k = 0; k < levels.coarse.size(); ++k) {
-    if (levels.coarse.kind[1][k] == VarKind::INTERIOR)
+    if (levels.coarse.kind(1, k) == VarKind::INTERIOR)
       levels.coarse.x[1][k] = field(levels.coarse.lattice.face_center(1, k));
   }
   for (auto& f : levels.fine.x) std::fill(f.begin(), f.end(), 0.0);
@@ -216,7 +216,7 @@ TEST(Transfer, ProlongationVanishesOnDirichletWalls) {
     const IVec<3> s = levels.fine.lattice.coords(k);
     // First fine layer beyond the coarse wall: fine cells 3 (stored), mid-box in y and z.
     if (s[0] != 3 || s[1] < 6 || s[1] > 10 || s[2] < 6 || s[2] > 10) continue;
-    if (levels.fine.kind[1][k] != VarKind::INTERIOR) continue;
+    if (levels.fine.kind(1, k) != VarKind::INTERIOR) continue;
     EXPECT_NEAR(levels.fine.x[1][k], field(levels.fine.lattice.face_center(1, k)), 1e-12);
     ++checked;
   }

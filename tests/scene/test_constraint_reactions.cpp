@@ -79,12 +79,12 @@ CorotatedRun solve_corotated(nlohmann::json d, double tolerance) {
   const double volume = std::pow(level.lattice.h, 3);
   for (int i = 0; i < 3; ++i)
     for (std::size_t k = 0; k < level.size(); ++k)
-      if (level.kind[i][k] == grid::VarKind::INTERIOR)
+      if (level.kind(i, k) == grid::VarKind::INTERIOR)
         run.residual_sum[i] += volume * level.r[i][k];
   double last = -1e300, sum = 0;
   int count = 0;
   for (std::size_t k = 0; k < level.size(); ++k) {
-    if (level.kind[0][k] == grid::VarKind::INACTIVE) continue;
+    if (level.kind(0, k) == grid::VarKind::INACTIVE) continue;
     const double x = level.lattice.face_center(0, static_cast<std::ptrdiff_t>(k)).x();
     if (x > last + 1e-9) last = x, sum = 0, count = 0;
     if (x > last - 1e-9) sum += x + level.x[0][k], ++count;

@@ -49,7 +49,7 @@ void sample_face_velocity(const Level<Dim, double>& level,
                           std::array<std::vector<double>, Dim>& out) {
   for (int i = 0; i < Dim; ++i)
     for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(level.size()); ++k)
-      out[i][k] = level.kind[i][k] == VarKind::INACTIVE
+      out[i][k] = level.kind(i, k) == VarKind::INACTIVE
                       ? 0.0
                       : velocity(level.lattice.face_center(i, k))[i];
 }
@@ -64,7 +64,7 @@ void write_step_right_hand_side(Level<Dim, double>& level,
   const auto n = static_cast<std::ptrdiff_t>(level.size());
   for (int i = 0; i < Dim; ++i) {
     for (std::ptrdiff_t k = 0; k < n; ++k) {
-      if (level.kind[i][k] != VarKind::INTERIOR) {
+      if (level.kind(i, k) != VarKind::INTERIOR) {
         level.b[i][k] = static_rhs[i][k];
         continue;
       }
@@ -85,7 +85,7 @@ void update_face_velocity(const Level<Dim, double>& level,
   for (int i = 0; i < Dim; ++i)
     for (std::size_t k = 0; k < level.size(); ++k)
       velocity[i][k] =
-          level.kind[i][k] == VarKind::INACTIVE ? 0.0 : (level.x[i][k] - previous[i][k]) / dt;
+          level.kind(i, k) == VarKind::INACTIVE ? 0.0 : (level.x[i][k] - previous[i][k]) / dt;
 }
 
 template <int Dim>
@@ -94,7 +94,7 @@ double face_kinetic_energy(const Level<Dim, double>& level,
   double sum = 0;
   for (int i = 0; i < Dim; ++i)
     for (std::size_t k = 0; k < level.size(); ++k)
-      if (level.kind[i][k] == VarKind::INTERIOR) sum += velocity[i][k] * velocity[i][k];
+      if (level.kind(i, k) == VarKind::INTERIOR) sum += velocity[i][k] * velocity[i][k];
   return 0.5 * density * std::pow(level.lattice.h, Dim) * sum;
 }
 
@@ -166,7 +166,7 @@ SolveReport BackwardEuler<Dim, Scalar>::step(const VectorField& dirichlet) {
   for (int i = 0; i < Dim; ++i) {
     m_previous[i] = level.x[i];
     for (std::ptrdiff_t k = 0; k < n; ++k)
-      if (level.kind[i][k] == VarKind::INTERIOR) level.x[i][k] += dt * m_velocity[i][k];
+      if (level.kind(i, k) == VarKind::INTERIOR) level.x[i][k] += dt * m_velocity[i][k];
   }
   m_multigrid.set_dirichlet_displacement(dirichlet);  // also back-substitutes tractions
   SolveReport report;

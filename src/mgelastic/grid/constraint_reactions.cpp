@@ -40,9 +40,9 @@ std::vector<Reaction> sum_fluxes(const Level<3, double>& level,
   };
   for (int i = 0; i < 3; ++i) {
     const std::ptrdiff_t si = lat.stride(i);
-    const auto dirichlet = [&](std::ptrdiff_t k) { return level.kind[i][k] == VarKind::DIRICHLET; };
+    const auto dirichlet = [&](std::ptrdiff_t k) { return level.kind(i, k) == VarKind::DIRICHLET; };
     for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(lat.size()); ++k) {
-      if (level.kind[i][k] != VarKind::INTERIOR) continue;
+      if (level.kind(i, k) != VarKind::INTERIOR) continue;
       if (dirichlet(k + si)) flux(i, k + si, +1, normal(i, k), i, k);
       if (dirichlet(k - si)) flux(i, k - si, -1, normal(i, k - si), i, k - si);
       for (int j = 0; j < 3; ++j) {
@@ -73,7 +73,7 @@ Eigen::Vector3d displacement_at(const Level<3, double>& level, int i, int j, std
     double sum = 0;
     int count = 0;
     const auto take = [&](std::ptrdiff_t face) {
-      if (level.kind[a][face] == VarKind::INACTIVE) return;
+      if (level.kind(a, face) == VarKind::INACTIVE) return;
       sum += level.x[a][face];
       ++count;
     };
@@ -143,12 +143,12 @@ Eigen::Vector3d free_load(const Level<3, double>& level) {
   Eigen::Vector3d load = Eigen::Vector3d::Zero();
   for (int i = 0; i < 3; ++i)
     for (std::size_t k = 0; k < level.size(); ++k)
-      if (level.kind[i][k] == VarKind::INTERIOR) load[i] -= volume * level.b[i][k];
+      if (level.kind(i, k) == VarKind::INTERIOR) load[i] -= volume * level.b[i][k];
   // Boundary stresses moved into the band rows' constants (compact rows: the CSR form may be
   // dropped, band_kernel.hpp).
   const auto& rows = level.band_kernel;
   for (std::size_t m = 0; m < rows.rows(); ++m)
-    if (level.kind[rows.field[m]][rows.target[m]] == VarKind::INTERIOR)
+    if (level.kind(rows.field[m], rows.target[m]) == VarKind::INTERIOR)
       load[rows.field[m]] += volume * rows.constant[m];
   return load;
 }

@@ -103,7 +103,7 @@ void CorotatedBandSmoother<Dim>::build_pressures(const Level<Dim, double>& level
   for (std::uint32_t m = 0; m < rows.rows(); ++m) {
     const std::uint32_t t = rows.target[m];
     const std::uint32_t field = t / n;
-    if (level.relaxation[field][t % n] == Relaxation::DISTRIBUTIVE) continue;
+    if (level.relaxation(field, t % n) == Relaxation::DISTRIBUTIVE) continue;
     if (field < static_cast<std::uint32_t>(Dim)) {
       m_in_band[m] = 1;
       ++m_band_rows;

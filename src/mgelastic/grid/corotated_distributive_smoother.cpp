@@ -11,7 +11,7 @@ bool relaxed_distributively(const Level<Dim, double>& level, std::uint32_t targe
   const auto n = static_cast<std::uint32_t>(level.size());
   const std::uint32_t field = target / n;
   if (field == Dim && level.lambda <= 0) return false;  // p = 0 rows
-  return level.relaxation[field][target % n] == Relaxation::DISTRIBUTIVE;
+  return level.relaxation(field, target % n) == Relaxation::DISTRIBUTIVE;
 }
 
 }  // namespace

@@ -63,7 +63,7 @@ CorotatedReport CorotatedBackwardEuler<Dim>::step(const VectorField& dirichlet) 
   for (int i = 0; i < Dim; ++i) {
     m_previous[i] = level.x[i];
     for (std::ptrdiff_t k = 0; k < n; ++k)
-      if (level.kind[i][k] == VarKind::INTERIOR) level.x[i][k] += dt * m_velocity[i][k];
+      if (level.kind(i, k) == VarKind::INTERIOR) level.x[i][k] += dt * m_velocity[i][k];
   }
   m_multigrid.set_dirichlet_displacement(dirichlet);  // also back-substitutes tractions
   CorotatedReport report;

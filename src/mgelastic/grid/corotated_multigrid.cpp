@@ -115,7 +115,7 @@ CorotatedMultigrid<Dim>::CorotatedMultigrid(const ElasticityProblem<Dim>& proble
   const auto& finest = m_multigrid.level(0);
   for (int f = 0; f < Dim; ++f)
     for (std::size_t k = 0; k < finest.size(); ++k)
-      if (finest.kind[f][k] == VarKind::DIRICHLET) m_dirichlet.push_back(finest.global(f, k));
+      if (finest.kind(f, k) == VarKind::DIRICHLET) m_dirichlet.push_back(finest.global(f, k));
   // Zero load: the state u = 0 the first solve_with_load_steps ramps from.
   for (auto& field : m_equilibrium.b) field.assign(finest.size(), 0.0);
   m_equilibrium.dirichlet.assign(m_dirichlet.size(), 0.0);
@@ -218,7 +218,7 @@ void CorotatedMultigrid<Dim>::build_level_system(int l, CorotatedRows rows_of_le
     for (std::uint32_t b = 0; b + 1 < blocks->start.size(); ++b)
       for (std::uint32_t e = blocks->start[b]; e < blocks->start[b + 1]; ++e) {
         const std::uint32_t t = m_rows[l].target[blocks->rows[e]];
-        if (level.relaxation[t / n][t % n] != Relaxation::DISTRIBUTIVE) {
+        if (level.relaxation(t / n, t % n) != Relaxation::DISTRIBUTIVE) {
           blocks->band.push_back(b);
           break;
         }

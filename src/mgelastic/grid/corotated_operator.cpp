@@ -156,7 +156,7 @@ class CorotatedRowBuilder {
   }
   bool exterior(std::ptrdiff_t c) const { return m_level.cells[c] == CellType::EXTERIOR; }
   bool known(int axis, std::ptrdiff_t k) const {
-    const VarKind kind = m_level.kind[axis][k];
+    const VarKind kind = m_level.kind(axis, k);
     return kind == VarKind::INTERIOR || kind == VarKind::DIRICHLET;
   }
 
@@ -381,7 +381,7 @@ std::vector<std::uint32_t> row_targets(const Level<Dim, double>& level) {
   const auto n = static_cast<std::ptrdiff_t>(level.size());
   for (std::ptrdiff_t k = 0; k < n; ++k)
     for (int field = 0; field <= Dim; ++field)
-      if (level.kind[field][k] == VarKind::INTERIOR) targets.push_back(level.global(field, k));
+      if (level.kind(field, k) == VarKind::INTERIOR) targets.push_back(level.global(field, k));
   return targets;
 }
 
@@ -471,7 +471,7 @@ double corotated_residual(Level<Dim, double>& level, const std::vector<Matrix<Di
   const auto& lat = level.lattice;
   const auto n = static_cast<std::ptrdiff_t>(level.size());
   const double inv_h = 1.0 / lat.h;
-  auto interior = [&](int i, std::ptrdiff_t k) { return level.kind[i][k] == VarKind::INTERIOR; };
+  auto interior = [&](int i, std::ptrdiff_t k) { return level.kind(i, k) == VarKind::INTERIOR; };
   std::array<std::vector<double>, Dim * Dim> stress;  // [i * Dim + j][location]
   for (auto& field : stress) field.assign(n, 0.0);
 #pragma omp parallel for schedule(static)

@@ -23,7 +23,7 @@ Matrix<Dim> cell_deformation_gradient(const Level<Dim, Scalar>& level, std::ptrd
   const double inv_h = 1.0 / lat.h;
   Matrix<Dim> f = Matrix<Dim>::Identity();
   auto active = [&](int axis, std::ptrdiff_t face) {
-    return level.kind[axis][face] != VarKind::INACTIVE;
+    return level.kind(axis, face) != VarKind::INACTIVE;
   };
   for (int i = 0; i < Dim; ++i) {
     const std::ptrdiff_t si = lat.stride(i);

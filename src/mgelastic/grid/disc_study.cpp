@@ -117,7 +117,7 @@ DiscStudy run_disc_study(double poisson_ratio, const std::vector<int>& resolutio
                      convergence_rate(report.residuals)};
     for (int i = 0; i < 2; ++i)
       for (std::size_t k = 0; k < level.size(); ++k)
-        if (level.kind[i][k] == VarKind::INTERIOR)
+        if (level.kind(i, k) == VarKind::INTERIOR)
           row.max_error = std::max(
               row.max_error,
               std::abs(mg.solution(i, k) - disc_displacement(level.lattice.face_center(i, k))[i]));

@@ -40,21 +40,21 @@ constexpr int kRowChunk = 32;
 // Whether a chunk holds an equation to relax: outside an embedded body (most of its bounding box)
 // whole chunks are Dirichlet or exterior, and skipping them saves their residuals and their
 // delta chain (all of whose steps would be zero).
-inline bool any_relaxed(const Relaxation* relax, int n) {
-  return any_equal(relax, n, Relaxation::DISTRIBUTIVE);
+inline bool any_relaxed(const VarCode* codes, int n, int field) {
+  return any_relaxation(codes, n, field, Relaxation::DISTRIBUTIVE);
 }
 
 // The psi_Axis steps of one x-row segment (operator()), with the level's constants.
 template <int Dim, typename Scalar, int Axis>
 struct MomentumRows {
   const Views<Dim, Scalar>& v;
-  const Relaxation* relax;
+  const VarCode* codes;
   const Scalar* b;
   Scalar c, inv_diagonal, p_step, g_relaxed;
   std::ptrdiff_t si;
 
   MomentumRows(const Level<Dim, Scalar>& level, const Views<Dim, Scalar>& views)
-      : v(views), relax(level.relaxation[Axis].data()), b(level.b[Axis].data()) {
+      : v(views), codes(level.codes.data()), b(level.b[Axis].data()) {
     // At lambda = 0 the pressure vanishes identically (it is eliminated exactly) and the step is
     // plain Gauss-Seidel on the momentum row, whose diagonal is -(2d + 2) mu / h^2 - c.
     const bool pressure_free = level.lambda <= 0;
@@ -77,7 +77,7 @@ struct MomentumRows {
     for (int first = 0; first < length; first += kRowChunk) {
       const std::ptrdiff_t k0 = row + first;
       const int n = std::min(kRowChunk, length - first);
-      if (!any_relaxed(relax + k0, n)) continue;
+      if (!any_relaxed(codes + k0, n, Axis)) continue;
       Scalar r[kRowChunk];
       for (int x = 0; x < n; ++x)
         r[x] = b[k0 + x] - momentum_row<Dim, Scalar, Axis>(v.u_const, p, v.s, k0 + x, v.c) +
@@ -89,7 +89,7 @@ struct MomentumRows {
       Scalar a[kRowChunk], g[kRowChunk];
 #pragma omp simd
       for (int x = 0; x < n; ++x) {
-        const bool relaxed = relax[k0 + x] == Relaxation::DISTRIBUTIVE;
+        const bool relaxed = relaxation_of(codes[k0 + x], Axis) == Relaxation::DISTRIBUTIVE;
         a[x] = relaxed ? r[x] * inv_diagonal : Scalar(0);
         g[x] = relaxed ? g_relaxed : Scalar(0);
       }
@@ -172,8 +172,8 @@ bool all_neighbors_interior(const Level<Dim, Scalar>& level, const Views<Dim, Sc
 template <int Dim, typename Scalar>
 void relax_pressure_chunk(const Level<Dim, Scalar>& level, const Views<Dim, Scalar>& v,
                           std::ptrdiff_t k0, int n) {
-  const Relaxation* relax = level.relaxation[Dim].data();
-  if (!any_relaxed(relax + k0, n)) return;
+  const VarCode* codes = level.codes.data();
+  if (!any_relaxed(codes + k0, n, Dim)) return;
   const Scalar* b = level.b[Dim].data();
   const Scalar mu = level.mu, lambda = level.lambda;
   // delta = r_p / (LM)_pp with numerator and denominator multiplied by lambda, so that the step
@@ -200,7 +200,7 @@ void relax_pressure_chunk(const Level<Dim, Scalar>& level, const Views<Dim, Scal
   const Scalar g_regular = coupling * inv_denominator;
 #pragma omp simd
   for (int x = 0; x < n; ++x) {
-    relaxed[x] = relax[k0 + x] == Relaxation::DISTRIBUTIVE;
+    relaxed[x] = relaxation_of(codes[k0 + x], Dim) == Relaxation::DISTRIBUTIVE;
     a[x] = relaxed[x] && regular[x] ? r[x] * inv_denominator : Scalar(0);
     g[x] = relaxed[x] && regular[x] ? g_regular : Scalar(0);
   }

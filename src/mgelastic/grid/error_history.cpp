@@ -11,7 +11,7 @@ double relative_error(const Multigrid<Dim, Scalar>& mg, const Multigrid<Dim, dou
   double error = 0, norm = 0;
   for (int f = 0; f <= Dim; ++f)
     for (std::size_t k = 0; k < level.size(); ++k) {
-      if (level.kind[f][k] != VarKind::INTERIOR) continue;
+      if (level.kind(f, k) != VarKind::INTERIOR) continue;
       const double exact = reference.solution(f, static_cast<std::ptrdiff_t>(k));
       const double d = mg.solution(f, static_cast<std::ptrdiff_t>(k)) - exact;
       error += d * d;

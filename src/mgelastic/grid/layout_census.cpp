@@ -13,7 +13,7 @@ std::vector<std::uint8_t> variable_mask(const Level<Dim, Scalar>& level) {
   std::vector<std::uint8_t> mask(level.size(), 0);
   for (int f = 0; f <= Dim; ++f)
     for (std::size_t k = 0; k < level.size(); ++k)
-      mask[k] |= level.kind[f][k] != VarKind::INACTIVE ? 1 : 0;
+      mask[k] |= level.kind(f, k) != VarKind::INACTIVE ? 1 : 0;
   return mask;
 }
 

@@ -73,17 +73,17 @@ template <int Dim, typename Scalar>
 void mark_traction_variables(Level<Dim, Scalar>& level) {
   const auto& lat = level.lattice;
   auto mark = [&](int axis, std::ptrdiff_t k) {
-    if (level.kind[axis][k] == VarKind::INACTIVE) level.kind[axis][k] = VarKind::TRACTION;
+    if (level.kind(axis, k) == VarKind::INACTIVE) level.codes.set_kind(axis, k, VarKind::TRACTION);
   };
   for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(lat.size()); ++k) {
-    if (level.kind[Dim][k] == VarKind::INTERIOR) {
+    if (level.kind(Dim, k) == VarKind::INTERIOR) {
       for (int i = 0; i < Dim; ++i) {
         mark(i, k);
         mark(i, k + lat.stride(i));
       }
     }
     for (int i = 0; i < Dim; ++i) {
-      if (level.kind[i][k] != VarKind::INTERIOR) continue;
+      if (level.kind(i, k) != VarKind::INTERIOR) continue;
       const std::ptrdiff_t si = lat.stride(i);
       for (int j = 0; j < Dim; ++j) {
         const std::ptrdiff_t sj = lat.stride(j);
@@ -190,20 +190,20 @@ void append_row(SparseRows<Scalar>& rows, std::uint32_t target, const ExplicitRo
 template <int Dim, typename Scalar>
 void widen_band_cells(Level<Dim, Scalar>& level, int layers) {
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(level.size());
-  auto& pressure = level.relaxation[Dim];
+  auto pressure = [&](std::ptrdiff_t k) { return level.relaxation(Dim, k); };
   for (int layer = 0; layer < layers; ++layer) {
     std::vector<std::ptrdiff_t> grown;
     for (std::ptrdiff_t k = 0; k < n; ++k) {
-      if (pressure[k] != Relaxation::DISTRIBUTIVE) continue;
+      if (pressure(k) != Relaxation::DISTRIBUTIVE) continue;
       for (int j = 0; j < Dim; ++j) {
         const std::ptrdiff_t sj = level.lattice.stride(j);
-        if (pressure[k + sj] == Relaxation::BAND || pressure[k - sj] == Relaxation::BAND) {
+        if (pressure(k + sj) == Relaxation::BAND || pressure(k - sj) == Relaxation::BAND) {
           grown.push_back(k);
           break;
         }
       }
     }
-    for (std::ptrdiff_t k : grown) pressure[k] = Relaxation::BAND;
+    for (std::ptrdiff_t k : grown) level.codes.set_relaxation(Dim, k, Relaxation::BAND);
   }
 }
 
@@ -214,18 +214,17 @@ template <int Dim, typename Scalar>
 void band_partly_filled_cells(Level<Dim, Scalar>& level) {
   if (level.cell_weight.empty()) return;
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(level.size());
-  auto& pressure = level.relaxation[Dim];
   auto partial = [&](std::ptrdiff_t k) {
     return level.cells[k] == CellType::INTERIOR && level.cell_weight[k] != 1.0;
   };
   for (std::ptrdiff_t k = 0; k < n; ++k) {
-    if (pressure[k] != Relaxation::DISTRIBUTIVE) continue;
+    if (level.relaxation(Dim, k) != Relaxation::DISTRIBUTIVE) continue;
     bool touches = partial(k);
     for (int j = 0; j < Dim && !touches; ++j) {
       const std::ptrdiff_t sj = level.lattice.stride(j);
       touches = partial(k + sj) || partial(k - sj);
     }
-    if (touches) pressure[k] = Relaxation::BAND;
+    if (touches) level.codes.set_relaxation(Dim, k, Relaxation::BAND);
   }
 }
 
@@ -246,10 +245,12 @@ void classify_relaxation(Level<Dim, Scalar>& level, const std::vector<CellType>*
   // neighbor (traction-modified pressure rows) and cells whose coarse parent is not interior
   // (Fig. 8: the coarse grid cannot correct them, so they must be relaxed robustly here).
   for (std::ptrdiff_t k = 0; k < n; ++k) {
-    if (level.kind[Dim][k] != VarKind::INTERIOR) continue;
+    if (level.kind(Dim, k) != VarKind::INTERIOR) continue;
     const bool relocated = relocation && !relocation->coarse_parent_interior(k);
-    level.relaxation[Dim][k] =
-        classifier.distributive_cell(k) && !relocated ? Relaxation::DISTRIBUTIVE : Relaxation::BAND;
+    level.codes.set_relaxation(Dim, k,
+                               classifier.distributive_cell(k) && !relocated
+                                   ? Relaxation::DISTRIBUTIVE
+                                   : Relaxation::BAND);
   }
   widen_band_cells(level, band_layers);
   band_partly_filled_cells(level);
@@ -258,17 +259,17 @@ void classify_relaxation(Level<Dim, Scalar>& level, const std::vector<CellType>*
   for (int i = 0; i < Dim; ++i) {
     const std::ptrdiff_t si = level.lattice.stride(i);
     for (std::ptrdiff_t k = 0; k < n; ++k) {
-      if (level.kind[i][k] != VarKind::INTERIOR) continue;
+      if (level.kind(i, k) != VarKind::INTERIOR) continue;
       bool band = !classifier.distributive_face(i, k) ||
-                  level.relaxation[Dim][k] == Relaxation::BAND ||
-                  level.relaxation[Dim][k - si] == Relaxation::BAND;
+                  level.relaxation(Dim, k) == Relaxation::BAND ||
+                  level.relaxation(Dim, k - si) == Relaxation::BAND;
       if (relocation) {
         const auto [restricts_badly, prolongs_badly] = relocation->classify(i, k);
         pre[i * n + k] = restricts_badly;
         post[i * n + k] = prolongs_badly;
         band = band || restricts_badly || prolongs_badly;
       }
-      level.relaxation[i][k] = band ? Relaxation::BAND : Relaxation::DISTRIBUTIVE;
+      level.codes.set_relaxation(i, k, band ? Relaxation::BAND : Relaxation::DISTRIBUTIVE);
     }
   }
 }
@@ -285,7 +286,7 @@ void build_band_rows(Level<Dim, Scalar>& level, const RowBuilder<Dim>& builder,
   const double mu = level.mu, lambda = level.lambda;
   std::vector<std::int32_t> band_p_index(n, -1);
   for (std::ptrdiff_t k = 0; k < n; ++k) {
-    if (level.relaxation[Dim][k] != Relaxation::BAND) continue;
+    if (level.relaxation(Dim, k) != Relaxation::BAND) continue;
     const ExplicitRow row = builder.pressure(k);
     band_p_index[k] = static_cast<std::int32_t>(level.band_p.rows());
     append_row(level.band_p, level.global(Dim, k), row, level.size());
@@ -298,7 +299,7 @@ void build_band_rows(Level<Dim, Scalar>& level, const RowBuilder<Dim>& builder,
   // sweeps the thin band like a front, which converges faster than component by component.
   for (std::ptrdiff_t k = 0; k < n; ++k) {
     for (int i = 0; i < Dim; ++i) {
-      if (level.relaxation[i][k] != Relaxation::BAND) continue;
+      if (level.relaxation(i, k) != Relaxation::BAND) continue;
       const ExplicitRow row = builder.momentum(i, k);
       const std::uint32_t self = level.global(i, k);
       double schur = 0.0;
@@ -454,7 +455,7 @@ void build_band_schedule(Level<Dim, Scalar>& level) {
 
 template <int Dim, typename Scalar>
 bool known_after_normal_pass(const Level<Dim, Scalar>& level, int axis, std::ptrdiff_t k) {
-  const VarKind kind = level.kind[axis][k];
+  const VarKind kind = level.kind(axis, k);
   if (kind == VarKind::INTERIOR || kind == VarKind::DIRICHLET) return true;
   if (kind != VarKind::TRACTION) return false;
   return level.cells[k] == CellType::INTERIOR ||
@@ -477,13 +478,13 @@ void add_shear_rule(Level<Dim, Scalar>& level, const BoundaryStress<Dim>& sigma,
   for (int j = 0; j < Dim; ++j) {
     if (j == i) continue;
     const std::ptrdiff_t sj = lat.stride(j);
-    if (s[j] >= 1 && s[i] >= 1 && known(i, g - sj) && level.kind[i][g - sj] != VarKind::TRACTION &&
+    if (s[j] >= 1 && s[i] >= 1 && known(i, g - sj) && level.kind(i, g - sj) != VarKind::TRACTION &&
         known(j, g) && known(j, g - si)) {
       candidates.push_back({level.global(i, g - sj), level.global(j, g), level.global(j, g - si),
                             Scalar(-1), static_cast<Scalar>(h * stress(j, g) / mu)});
     }
     if (s[j] + 1 <= lat.cells[j] + 1 && s[i] >= 1 && known(i, g + sj) &&
-        level.kind[i][g + sj] != VarKind::TRACTION && known(j, g + sj) && known(j, g + sj - si)) {
+        level.kind(i, g + sj) != VarKind::TRACTION && known(j, g + sj) && known(j, g + sj - si)) {
       candidates.push_back({level.global(i, g + sj), level.global(j, g + sj),
                             level.global(j, g + sj - si), Scalar(1),
                             static_cast<Scalar>(-h * stress(j, g + sj) / mu)});
@@ -508,7 +509,7 @@ void add_thin_rule(Level<Dim, Scalar>& level, const BoundaryStress<Dim>& sigma, 
     if (j == i) continue;
     for (std::ptrdiff_t nb : {cell - lat.stride(j), cell + lat.stride(j)}) {
       for (std::ptrdiff_t face : {nb, nb + si}) {
-        const VarKind kind = level.kind[i][face];
+        const VarKind kind = level.kind(i, face);
         if (kind == VarKind::INTERIOR || kind == VarKind::DIRICHLET)
           rule.neighbors.push_back(level.global(i, face));
       }
@@ -524,16 +525,16 @@ void build_traction_rules(Level<Dim, Scalar>& level, const BoundaryStress<Dim>& 
   for (int i = 0; i < Dim; ++i) {
     const std::ptrdiff_t si = lat.stride(i);
     for (std::ptrdiff_t g = 0; g < n; ++g) {
-      if (level.kind[i][g] != VarKind::TRACTION) continue;
+      if (level.kind(i, g) != VarKind::TRACTION) continue;
       const bool lower_interior = level.cells[g - si] == CellType::INTERIOR;
       const bool upper_interior = level.cells[g] == CellType::INTERIOR;
       const Scalar s = static_cast<Scalar>(sigma ? sigma(i, i, lat.face_center(i, g)) : 0);
       if (lower_interior) {
-        if (level.kind[i][g - si] == VarKind::TRACTION) continue;  // thin: handled below
+        if (level.kind(i, g - si) == VarKind::TRACTION) continue;  // thin: handled below
         level.traction.normal.push_back(
             {level.global(i, g), level.global(i, g - si), level.global(Dim, g - si), 1, s});
       } else if (upper_interior) {
-        if (level.kind[i][g + si] == VarKind::TRACTION) {
+        if (level.kind(i, g + si) == VarKind::TRACTION) {
           add_thin_rule(level, sigma, i, g);
           continue;
         }
@@ -551,7 +552,7 @@ void build_traction_rules(Level<Dim, Scalar>& level, const BoundaryStress<Dim>& 
 template <int Dim, typename Scalar>
 std::size_t Level<Dim, Scalar>::interior_unknowns() const {
   std::size_t count = 0;
-  for (const auto& field : kind) count += std::count(field.begin(), field.end(), VarKind::INTERIOR);
+  for (int f = 0; f <= Dim; ++f) count += codes.count(f, VarKind::INTERIOR);
   return count;
 }
 
@@ -563,13 +564,11 @@ std::vector<ByteShare> Level<Dim, Scalar>::byte_breakdown() const {
     for (const auto& inner : outer) total += vector_bytes(inner);
     return total;
   };
-  std::size_t fields = 0, kinds = 0, relaxations = 0;
+  std::size_t fields = 0;
   for (int f = 0; f <= Dim; ++f) {
     for (const auto* field : {&x[f], &b[f], &r[f]})
       fields += vector_bytes(*field) - released_bytes(*field, live);
     fields -= zero_load_bytes(f);
-    if (kind.owns()) kinds += vector_bytes(kind[f]);  // else the level it shares them with counts
-    if (relaxation.owns()) relaxations += vector_bytes(relaxation[f]);
   }
   std::size_t schedules = sum(pre_restriction_rows, post_prolongation_rows);
   for (const auto& color : band_schedule)
@@ -590,8 +589,8 @@ std::vector<ByteShare> Level<Dim, Scalar>::byte_breakdown() const {
   };
   return {
       {"fields x b r", fields},
-      {"kind", kinds},
-      {"relaxation", relaxations},
+      // Shared codes count at the level that owns them.
+      {"variable codes (kind, relaxation)", codes.owns() ? codes.bytes() : 0},
       {"cells, Dirichlet wall layers", sum(cells, dirichlet_wall_layers)},
       {"cell weights", vector_bytes(cell_weight)},
       {"band_u CSR start/value/constant", csr_values(band_u)},
@@ -654,20 +653,17 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
   level.inertia = static_cast<Scalar>(inertia);
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(lattice.size());
   const Classifier<Dim> classifier{level.lattice, level.cells};
-  for (int f = 0; f <= Dim; ++f) {
-    assign_on_huge_pages(level.kind[f], n, VarKind::INACTIVE);
-    assign_on_huge_pages(level.relaxation[f], n, Relaxation::NONE);
-  }
+  level.codes.assign(static_cast<std::size_t>(n));
   for (std::ptrdiff_t k = 0; k < n; ++k) {
-    for (int i = 0; i < Dim; ++i) level.kind[i][k] = classifier.face_kind(i, k);
-    if (classifier.interior(k)) level.kind[Dim][k] = VarKind::INTERIOR;
+    for (int i = 0; i < Dim; ++i) level.codes.set_kind(i, k, classifier.face_kind(i, k));
+    if (classifier.interior(k)) level.codes.set_kind(Dim, k, VarKind::INTERIOR);
   }
   mark_traction_variables(level);
   // Traction marking is the last change of INACTIVE: the live chunks are final here, and the
   // fields are allocated one array at a time with their dead pages released at once. r stays
   // empty until a residual array is asked for (residual.hpp: ensure_residual_storage); the
   // V-cycle needs none (residual_restriction.hpp).
-  if (release_dead_pages) level.live = find_live_chunks<Dim>(level.lattice, level.kind);
+  if (release_dead_pages) level.live = find_live_chunks<Dim>(level.lattice, level.codes);
   for (int f = 0; f <= Dim; ++f)
     for (auto* field : {&level.x[f], &level.b[f]}) assign_zeros_sparse(*field, n, level.live);
   std::vector<std::uint8_t> pre(Dim * n, 0), post(Dim * n, 0);
@@ -692,7 +688,7 @@ void set_dirichlet_values(Level<Dim, Scalar>& level,
   if (!displacement) return;
   for (int i = 0; i < Dim; ++i) {
     for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(level.size()); ++k) {
-      if (level.kind[i][k] == VarKind::DIRICHLET)
+      if (level.kind(i, k) == VarKind::DIRICHLET)
         level.x[i][k] = static_cast<Scalar>(displacement(level.lattice.face_center(i, k))[i]);
     }
   }

@@ -11,15 +11,15 @@
 // size + k.
 //
 // Memory (byte_breakdown(); docs/performance.md "Memory per unknown"). Per lattice point and
-// field: x, b (2 Scalars; r a third where allocated), kind and relaxation (1 byte each); per cell
-// its type. Per band row: target (global index and (field, index)), start, constant, Schur
-// diagonal, eliminated pressures. Per band entry: (field, index, value) (5 bytes of index + one
-// Scalar). These CSR rows are the build's form: the compact patterns (band_kernel) hold the same
-// rows at ~1/7 of the bytes, and Multigrid drops the CSR once blocks, runs and schedules are built
-// from it (drop_band_csr). On top, for the sweeps: cell blocks with their inverses, runs and
-// colored schedules. Band arrays are trimmed to their size after the build. The double-precision
-// solution level of a mixed-precision solve keeps only what residuals, corrections and traction
-// back-substitution read (Multigrid drops the rest).
+// field: x, b (2 Scalars; r a third where allocated); per cell its type and the variable codes
+// (kind and relaxation of its Dim + 1 variables, 2 bytes: var_codes.hpp). Per band row: target
+// (global index and (field, index)), start, constant, Schur diagonal, eliminated pressures. Per
+// band entry: (field, index, value) (5 bytes of index + one Scalar). These CSR rows are the build's
+// form: the compact patterns (band_kernel) hold the same rows at ~1/7 of the bytes, and Multigrid
+// drops the CSR once blocks, runs and schedules are built from it (drop_band_csr). On top, for the
+// sweeps: cell blocks with their inverses, runs and colored schedules. Band arrays are trimmed to
+// their size after the build. The double-precision solution level of a mixed-precision solve keeps
+// only what residuals, corrections and traction back-substitution read (Multigrid drops the rest).
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -35,27 +35,9 @@
 #include "mgelastic/grid/lattice.hpp"
 #include "mgelastic/grid/live_chunks.hpp"
 #include "mgelastic/grid/material.hpp"
-#include "mgelastic/grid/shared_field_arrays.hpp"
+#include "mgelastic/grid/var_codes.hpp"
 
 namespace mgelastic::grid {
-
-// Sec. 5.1: interior variables lie strictly inside the interior region; boundary variables are
-// referenced by interior equations and touch a Dirichlet cell (DIRICHLET) or not (TRACTION).
-enum class VarKind : std::uint8_t { INACTIVE = 0, INTERIOR = 1, DIRICHLET = 2, TRACTION = 3 };
-
-// Which smoother relaxes the equation collocated with an interior variable.
-enum class Relaxation : std::uint8_t { NONE = 0, DISTRIBUTIVE = 1, BAND = 2 };
-
-// Whether any of n codes is `wanted`: a byte-wise OR, which vectorizes (with a bool accumulator
-// GCC kept a scalar compare per entry, 13 % of the distributive sweep's momentum rows). The
-// kernels skip chunks and rows outside an embedded body (most of its bounding box) with it.
-template <typename Code>
-inline bool any_equal(const Code* codes, std::ptrdiff_t n, Code wanted) {
-  unsigned char any = 0;
-#pragma omp simd reduction(| : any)
-  for (std::ptrdiff_t i = 0; i < n; ++i) any |= static_cast<unsigned char>(codes[i] == wanted);
-  return any != 0;
-}
 
 // Explicit rows in CSR form. Row value = sum value[e] * x[column_field[e]][column_index[e]];
 // `constant` holds boundary stresses moved to the right-hand side (equation: row = b - constant).
@@ -176,10 +158,11 @@ struct Level {
   // filled them again, so the memory accounting counts them then.
   FieldStretches<Dim + 1> zero_load_pages;
   std::size_t zero_load_bytes(int field) const;
-  // One byte per variable and field each; the double solution level of a mixed-precision solve
-  // shares them with the float finest level (shared_field_arrays.hpp).
-  SharedFieldArrays<VarKind, Dim + 1> kind;
-  SharedFieldArrays<Relaxation, Dim + 1> relaxation;
+  // Each variable's kind and relaxation, two bits each in one code per cell (var_codes.hpp);
+  // the double solution level of a mixed-precision solve shares them with the float finest.
+  VarCodes codes;
+  VarKind kind(int field, std::ptrdiff_t k) const { return codes.kind(field, k); }
+  Relaxation relaxation(int field, std::ptrdiff_t k) const { return codes.relaxation(field, k); }
 
   // Boundary band (Sec. 5.3): momentum rows relaxed by Gauss-Seidel on the Schur complement
   // L_phi - G D_p^-1 G^T, and the pressure rows eliminated there (updated exactly).

@@ -7,7 +7,6 @@
 
 #include "mgelastic/grid/huge_pages.hpp"
 #include "mgelastic/grid/level.hpp"
-#include "mgelastic/grid/shared_field_arrays.hpp"
 
 namespace mgelastic::grid {
 namespace {
@@ -23,20 +22,17 @@ std::size_t LiveChunks::live_count() const {
   return static_cast<std::size_t>(std::accumulate(live.begin(), live.end(), std::size_t{0}));
 }
 
-template <int Dim, typename KindArrays>
-LiveChunks find_live_chunks(const Lattice<Dim>& lattice, const KindArrays& kind) {
+template <int Dim>
+LiveChunks find_live_chunks(const Lattice<Dim>& lattice, const VarCodes& codes) {
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(lattice.size());
   const std::ptrdiff_t row_length = lattice.padded(0);
   const std::ptrdiff_t rows = n / row_length;
   // Rows holding a variable, then their neighbours along the other axes.
   std::vector<std::uint8_t> holds(static_cast<std::size_t>(rows), 0);
   for (std::ptrdiff_t row = 0; row < rows; ++row) {
-    bool any = false;
-    for (int f = 0; f <= Dim && !any; ++f) {
-      const VarKind* k = kind[f].data() + row * row_length;
-      any = std::any_of(k, k + row_length, [](VarKind v) { return v != VarKind::INACTIVE; });
-    }
-    holds[static_cast<std::size_t>(row)] = any;
+    const VarCode* c = codes.data() + row * row_length;  // 0: no variable (var_codes.hpp)
+    holds[static_cast<std::size_t>(row)] =
+        std::any_of(c, c + row_length, [](VarCode code) { return code != 0; });
   }
   std::vector<std::uint8_t> live_row = holds;
   for (std::ptrdiff_t row = 0; row < rows; ++row) {
@@ -206,8 +202,8 @@ std::vector<std::pair<std::uintptr_t, std::uintptr_t>> release_zero_pages(std::v
   return released;
 }
 
-template LiveChunks find_live_chunks<2>(const Lattice<2>&, const SharedFieldArrays<VarKind, 3>&);
-template LiveChunks find_live_chunks<3>(const Lattice<3>&, const SharedFieldArrays<VarKind, 4>&);
+template LiveChunks find_live_chunks<2>(const Lattice<2>&, const VarCodes&);
+template LiveChunks find_live_chunks<3>(const Lattice<3>&, const VarCodes&);
 template std::vector<std::pair<std::uintptr_t, std::uintptr_t>> release_zero_pages<float>(
     std::vector<float>&, const LiveChunks&);
 template std::vector<std::pair<std::uintptr_t, std::uintptr_t>> release_zero_pages<double>(

@@ -28,7 +28,7 @@
 
 namespace mgelastic::grid {
 
-enum class VarKind : std::uint8_t;
+class VarCodes;
 
 inline constexpr std::ptrdiff_t kLiveChunk = 512;
 
@@ -46,10 +46,10 @@ struct LiveChunks {
   std::size_t live_count() const;
 };
 
-// The live chunks of a lattice whose per-field variable kinds are `kind` (Dim + 1 arrays of
-// lattice.size()); all live (empty) when no chunk is dead.
-template <int Dim, typename KindArrays>
-LiveChunks find_live_chunks(const Lattice<Dim>& lattice, const KindArrays& kind);
+// The live chunks of a lattice whose variables `codes` describes (var_codes.hpp); all live
+// (empty) when no chunk is dead.
+template <int Dim>
+LiveChunks find_live_chunks(const Lattice<Dim>& lattice, const VarCodes& codes);
 
 // Calls visit(lo, hi) for the part [lo, hi) of each live chunk inside [begin, end), in order.
 template <typename Visit>

@@ -83,7 +83,7 @@ void write_load_right_hand_side(const ElasticityProblem<Dim>& problem, Level<Dim
   if (!problem.body_force) return;
   for (int i = 0; i < Dim; ++i) {
     for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(level.size()); ++k) {
-      if (level.kind[i][k] == VarKind::INTERIOR)
+      if (level.kind(i, k) == VarKind::INTERIOR)
         level.b[i][k] -=
             static_cast<Scalar>(problem.body_force(level.lattice.face_center(i, k))[i]);
     }

@@ -96,9 +96,7 @@ void drop_whole_band_schedules(Level<Dim, Scalar>& level) {
 // so a typing that differed would keep its own).
 template <int Dim, typename Scalar>
 void share_variable_codes(const Level<Dim, Scalar>& fine, Level<Dim, double>& solution) {
-  if (solution.kind.same_values(fine.kind)) solution.kind.share_from(fine.kind);
-  if (solution.relaxation.same_values(fine.relaxation))
-    solution.relaxation.share_from(fine.relaxation);
+  if (solution.codes.same_values(fine.codes)) solution.codes.share_from(fine.codes);
 }
 
 // x into the finest level's unknowns (rounded to float in single precision), its live chunks only
@@ -146,7 +144,7 @@ template <int Dim, typename Scalar>
 void add_correction(const Level<Dim, Scalar>& fine, Level<Dim, double>& solution) {
   const auto size = static_cast<std::ptrdiff_t>(fine.size());
   for (int f = 0; f <= Dim; ++f) {
-    const VarKind* kind = fine.kind[f].data();
+    const FieldKinds kind = fine.codes.kinds(f);
     const Scalar* e = fine.x[f].data();
     double* x = solution.x[f].data();
     // Chunks without an INTERIOR variable (outside an embedded body) are skipped; inside one the
@@ -158,7 +156,7 @@ void add_correction(const Level<Dim, Scalar>& fine, Level<Dim, double>& solution
     for (std::ptrdiff_t begin = 0; begin < size; begin += chunk) {
       const std::ptrdiff_t end = std::min(begin + chunk, size);
       if (!solution.live.any_live(begin, end)) continue;
-      if (!any_equal(kind + begin, end - begin, VarKind::INTERIOR)) continue;
+      if (!any_kind(kind.codes + begin, end - begin, kind.field, VarKind::INTERIOR)) continue;
       for (std::ptrdiff_t k = begin; k < end; ++k)
         x[k] += kind[k] == VarKind::INTERIOR ? static_cast<double>(e[k]) : 0.0;
     }

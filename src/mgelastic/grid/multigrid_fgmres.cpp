@@ -47,7 +47,7 @@ void for_each_interior(const Level<Dim, T>& level, const auto& f) {
   const std::size_t n = level.size();
   for (int field = 0; field <= Dim; ++field)
     for (std::size_t k = 0; k < n; ++k)
-      if (level.kind[field][k] == VarKind::INTERIOR) f(field, k, field * n + k);
+      if (level.kind(field, k) == VarKind::INTERIOR) f(field, k, field * n + k);
 }
 
 template <int Dim>

@@ -93,7 +93,7 @@ NodeDisplacement node_displacement(const Level<3, Scalar>& level,
           std::array<bool, 4> defined{};
           for (int q = 0; q < 4; ++q) {
             const std::ptrdiff_t face = corner - (q & 1) * lat.stride(b) - (q >> 1) * lat.stride(c);
-            defined[q] = level.kind[a][face] != VarKind::INACTIVE;
+            defined[q] = level.kind(a, face) != VarKind::INACTIVE;
             if (defined[q]) v[q] = value(a, face);
           }
           double sum = 0;

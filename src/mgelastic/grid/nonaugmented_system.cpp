@@ -15,7 +15,7 @@ void number_unknowns(const Level<Dim, Scalar>& level, NonAugmentedSystem<Dim>& s
   for (int f = 0; f <= Dim; ++f) {
     auto& list = f < Dim ? system.u_variables : system.p_variables;
     for (std::ptrdiff_t k = 0; k < n; ++k) {
-      if (level.kind[f][k] != VarKind::INTERIOR) continue;
+      if (level.kind(f, k) != VarKind::INTERIOR) continue;
       index[f * n + k] = static_cast<std::int32_t>(list.size());
       list.push_back(level.global(f, k));
     }

@@ -28,13 +28,13 @@ double split_sum(std::ptrdiff_t n, const Term& term) {
   return ((part[0] + part[1]) + (part[2] + part[3])) + ((part[4] + part[5]) + (part[6] + part[7]));
 }
 
-// Whether any field's equation in [begin, begin + m) is a stencil (DISTRIBUTIVE) row.
+// Whether any field's equation in [begin, begin + m) is a stencil (DISTRIBUTIVE) row: one bit
+// per field (Relaxation::DISTRIBUTIVE = 1 is the low bit of each relaxation pair).
 template <int Dim>
-bool any_distributive(const std::array<const Relaxation*, Dim + 1>& relax, std::ptrdiff_t begin,
-                      std::ptrdiff_t m) {
-  for (int f = 0; f <= Dim; ++f)
-    if (any_equal(relax[f] + begin, m, Relaxation::DISTRIBUTIVE)) return true;
-  return false;
+bool any_distributive(const VarCode* codes, std::ptrdiff_t begin, std::ptrdiff_t m) {
+  VarCode bits = 0;
+  for (int f = 0; f <= Dim; ++f) bits |= relaxation_bits(f, Relaxation::DISTRIBUTIVE);
+  return any_bits(codes + begin, m, bits);
 }
 
 // Stencil residuals of every field in one pass: each momentum row reads every u_j and p, so
@@ -53,7 +53,7 @@ struct StencilResidual {
   std::array<const Scalar*, Dim> u;
   std::array<std::ptrdiff_t, Dim> s;
   StencilConstants<Dim, Scalar> c;
-  std::array<const Relaxation*, Dim + 1> relax;
+  const VarCode* codes;
   std::array<const Scalar*, Dim + 1> b;
   const Scalar* p;
   Scalar inertia, mu, d;
@@ -67,10 +67,8 @@ struct StencilResidual {
     }
     const Scalar inv_h = static_cast<Scalar>(1.0 / level.lattice.h);
     c = {level.mu, inv_h, inv_h * inv_h};
-    for (int f = 0; f <= Dim; ++f) {
-      relax[f] = level.relaxation[f].data();
-      b[f] = level.b[f].data();
-    }
+    codes = level.codes.data();
+    for (int f = 0; f <= Dim; ++f) b[f] = level.b[f].data();
     p = level.x[Dim].data();
     inertia = level.inertia;
     mu = level.mu;
@@ -86,7 +84,7 @@ struct StencilResidual {
   template <typename Out>
   void chunk(const std::array<Out*, Dim + 1>& r, std::ptrdiff_t begin, std::ptrdiff_t m,
              double* squares) const {
-    if (!any_distributive<Dim>(relax, begin, m)) {
+    if (!any_distributive<Dim>(codes, begin, m)) {
       // Outside an embedded body (most of its bounding box) a chunk holds no stencil row: its
       // residuals are zero (as the select below would give) without reading x and b.
       for (int f = 0; f <= Dim; ++f) std::fill(r[f] + begin, r[f] + begin + m, Out(0));
@@ -102,19 +100,20 @@ struct StencilResidual {
       value[Dim][i] = b[Dim][k] - mu * divergence<Dim, Scalar>(u, s, k, c.inv_h) - d * p[k];
     }
     for (int f = 0; f <= Dim; ++f) {
-      const Relaxation* rf = relax[f] + begin;
+      const VarCode* cf = codes + begin;
+      const auto relaxed = [&](std::ptrdiff_t i) {
+        return relaxation_of(cf[i], f) == Relaxation::DISTRIBUTIVE;
+      };
       Out* out = r[f] + begin;
       const Scalar* v = value[f];
       if (f == Dim && !has_pressure) {
         std::fill(out, out + m, Out(0));
         continue;
       }
-      for (std::ptrdiff_t i = 0; i < m; ++i)
-        out[i] = rf[i] == Relaxation::DISTRIBUTIVE ? static_cast<Out>(v[i]) : Out(0);
+      for (std::ptrdiff_t i = 0; i < m; ++i) out[i] = relaxed(i) ? static_cast<Out>(v[i]) : Out(0);
       if (!squares) continue;
-      *squares += split_sum(m, [&](std::ptrdiff_t i) {
-        return rf[i] == Relaxation::DISTRIBUTIVE ? static_cast<double>(v[i]) * v[i] : 0.0;
-      });
+      *squares += split_sum(
+          m, [&](std::ptrdiff_t i) { return relaxed(i) ? static_cast<double>(v[i]) * v[i] : 0.0; });
     }
   }
 };

@@ -10,8 +10,8 @@ namespace {
 // Whether a storage row of n variables holds an INTERIOR one. Both transfers write only
 // INTERIOR variables, so rows without one (outside an embedded body, most of its bounding box)
 // are skipped without reading the other level.
-bool has_interior(const VarKind* kind, int n) {
-  return any_equal(kind, n, VarKind::INTERIOR);
+bool has_interior(FieldKinds kind, int n) {
+  return any_kind(kind.codes, n, kind.field, VarKind::INTERIOR);
 }
 
 struct Tap {
@@ -114,7 +114,7 @@ struct OuterRestrictionTaps {
 // outermost, then the outer rows in visiting order, so the result is bit-identical.
 template <int T0, int Rows, typename Scalar>
 void restrict_row_range(const Scalar* r, const std::ptrdiff_t* offset, const double* weight,
-                        const VarKind* kind, Scalar* b, int first, int last) {
+                        FieldKinds kind, Scalar* b, int first, int last) {
   constexpr double w0[3] = {T0 == 3 ? 0.25 : 0.5, T0 == 3 ? 0.5 : 0.5, 0.25};
   constexpr int shift = T0 == 3 ? -2 : -1;  // first fine x tap: 2 (i - 1) + 1 - (T0 == 3)
   std::array<const Scalar*, Rows> row;
@@ -139,8 +139,8 @@ void restrict_row_range(const Scalar* r, const std::ptrdiff_t* offset, const dou
 }
 
 template <int T0, typename Scalar, int Dim>
-void restrict_row_dispatch(const Scalar* r, const OuterRestrictionTaps<Dim>& outer,
-                           const VarKind* kind, Scalar* b, int first, int last) {
+void restrict_row_dispatch(const Scalar* r, const OuterRestrictionTaps<Dim>& outer, FieldKinds kind,
+                           Scalar* b, int first, int last) {
   const auto* o = outer.offset.data();
   const auto* w = outer.weight.data();
   switch (outer.count) {
@@ -186,7 +186,7 @@ void restrict_coarse_row(const Level<Dim, Scalar>& fine, const Scalar* r,
   for (int a = 1; a < Dim; ++a)
     taps[a] = stored_restriction_taps(s[a], a == field, fine.lattice.padded(a));
   const std::ptrdiff_t base = coarse.lattice.index(s);
-  const VarKind* kind = coarse.kind[field].data() + base;
+  FieldKinds kind = coarse.codes.kinds(field) + base;
   if (!has_interior(kind, coarse.lattice.padded(0))) return;  // b stays zero
   Scalar* b = coarse.b[field].data() + base;
   auto general = [&](int i) {
@@ -277,7 +277,7 @@ Sample combine(const Sample& main, double w_main, const Sample& other, double w_
 template <int Dim, typename Scalar>
 Sample coarse_sample(const Level<Dim, Scalar>& coarse, int field, const IVec<Dim>& s) {
   const std::ptrdiff_t k = coarse.lattice.index(s);
-  switch (coarse.kind[field][k]) {
+  switch (coarse.kind(field, k)) {
     case VarKind::INACTIVE:
       return {};
 
@@ -357,10 +357,12 @@ double combine_outer(const OuterTaps<Dim>& outer, const double* row, int axis, i
 // ok[q] says whether every coarse sample read is active (interior or traction); the caller
 // falls back to the per-point interpolation where not. No branch inside: GCC vectorizes it.
 template <int Dim, bool FaceX, int N1, int N2, typename Scalar>
-void prolongate_pairs(const Scalar* cx, const VarKind* ck, const std::ptrdiff_t* offset,
+void prolongate_pairs(const Scalar* cx, FieldKinds ck, const std::ptrdiff_t* offset,
                       const double* w1, const double* w2, int j0, int m, double* value,
                       std::uint8_t* ok) {
   constexpr int rows = 1 << (Dim - 1);
+  // INTERIOR (1) and TRACTION (3), the active kinds, have the kind's low bit set.
+  const VarCode active_bit = kind_bits(ck.field, VarKind::INTERIOR);
   auto combine = [&](const double* row) {
     const double a = N1 == 2 ? w1[0] * row[0] + w1[1] * row[1] : row[0];
     if constexpr (Dim == 2) return a;
@@ -373,8 +375,8 @@ void prolongate_pairs(const Scalar* cx, const VarKind* ck, const std::ptrdiff_t*
     int active_lo = 1, active_hi = 1;
     for (int r = 0; r < rows; ++r) {
       const Scalar* row = cx + offset[r];
-      const VarKind* kind = ck + offset[r];
-      const int k_mid = static_cast<int>(kind[j]) & 1, k_up = static_cast<int>(kind[j + 1]) & 1;
+      const VarCode* code = ck.codes + offset[r];
+      const int k_mid = (code[j] & active_bit) != 0, k_up = (code[j + 1] & active_bit) != 0;
       if constexpr (FaceX) {
         lo[r] = static_cast<double>(row[j]);
         hi[r] = 0.5 * static_cast<double>(row[j]) + 0.5 * static_cast<double>(row[j + 1]);
@@ -382,7 +384,7 @@ void prolongate_pairs(const Scalar* cx, const VarKind* ck, const std::ptrdiff_t*
       } else {
         lo[r] = 0.75 * static_cast<double>(row[j]) + 0.25 * static_cast<double>(row[j - 1]);
         hi[r] = 0.75 * static_cast<double>(row[j]) + 0.25 * static_cast<double>(row[j + 1]);
-        active_lo &= k_mid & static_cast<int>(kind[j - 1]);
+        active_lo &= k_mid & static_cast<int>((code[j - 1] & active_bit) != 0);
       }
       active_hi &= k_mid & k_up;
     }
@@ -394,7 +396,7 @@ void prolongate_pairs(const Scalar* cx, const VarKind* ck, const std::ptrdiff_t*
 }
 
 template <int Dim, typename Scalar>
-void prolongate_pairs_dispatch(bool face_x, int n1, int n2, const Scalar* cx, const VarKind* ck,
+void prolongate_pairs_dispatch(bool face_x, int n1, int n2, const Scalar* cx, FieldKinds ck,
                                const std::ptrdiff_t* offset, const double* w1, const double* w2,
                                int j0, int m, double* value, std::uint8_t* ok) {
   auto run = [&]<bool F, int N1, int N2>() {
@@ -429,7 +431,7 @@ template <int Dim, typename Scalar>
 void prolongate_row(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>& fine, int field,
                     const IVec<Dim>& s) {
   const std::ptrdiff_t base = fine.lattice.index(s);
-  const VarKind* fine_kind = fine.kind[field].data();
+  FieldKinds fine_kind = fine.codes.kinds(field);
   if (!has_interior(fine_kind + base, fine.lattice.padded(0))) return;
   OuterTaps<Dim> outer;
   int rows = 1;
@@ -447,7 +449,7 @@ void prolongate_row(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>& fine, 
     }
     outer.offset[r] = offset;
   }
-  const VarKind* coarse_kind = coarse.kind[field].data();
+  FieldKinds coarse_kind = coarse.codes.kinds(field);
   const Scalar* cx = coarse.x[field].data();
   Scalar* x = fine.x[field].data();
   // INTERIOR (1) and TRACTION (3) are the active kinds: bit 0 set.
@@ -536,15 +538,16 @@ template <int Dim, typename Scalar>
 void prolongate_correction(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>& fine) {
   for (int field = 0; field < Dim; ++field) prolongate_displacement(coarse, fine, field);
   // Pressures: piecewise constant injection from interior coarse cells.
+  const FieldKinds fine_kind = fine.codes.kinds(Dim), coarse_kind = coarse.codes.kinds(Dim);
   for_each_row<Dim>(fine.lattice, [&](IVec<Dim> s) {
     IVec<Dim> cs;
     for (int a = 1; a < Dim; ++a) cs[a] = (s[a] - 1) / 2 + 1;
     const std::ptrdiff_t base = fine.lattice.index(s);
     for (int i = 1; i <= fine.lattice.cells[0]; ++i) {
-      if (fine.kind[Dim][base + i] != VarKind::INTERIOR) continue;
+      if (fine_kind[base + i] != VarKind::INTERIOR) continue;
       cs[0] = (i - 1) / 2 + 1;
       const std::ptrdiff_t ck = coarse.lattice.index(cs);
-      if (coarse.kind[Dim][ck] == VarKind::INTERIOR) fine.x[Dim][base + i] += coarse.x[Dim][ck];
+      if (coarse_kind[ck] == VarKind::INTERIOR) fine.x[Dim][base + i] += coarse.x[Dim][ck];
     }
   });
 }

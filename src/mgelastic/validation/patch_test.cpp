@@ -33,7 +33,7 @@ PatchTestResult grid_patch_test(int n, double nu) {
   double scale = 0;
   for (int i = 0; i < 3; ++i)
     for (std::size_t k = 0; k < level.size(); ++k) {
-      if (level.kind[i][k] != grid::VarKind::INTERIOR) continue;
+      if (level.kind(i, k) != grid::VarKind::INTERIOR) continue;
       const grid::Vec<3> x = level.lattice.face_center(i, k);
       const double exact = (g * x)[i];
       scale = std::max(scale, std::abs(exact));
