@@ -28,6 +28,7 @@
 #include "mgelastic/grid/layout_census.hpp"
 #include "mgelastic/grid/multigrid.hpp"
 #include "mgelastic/grid/nonaugmented_system.hpp"
+#include "mgelastic/grid/residual_blocks.hpp"
 #include "mgelastic/io/synthetic_lattice_frame.hpp"
 #include "mgelastic/io/vtk_writers.hpp"
 #include "mgelastic/scene/grid_setup.hpp"
@@ -37,6 +38,9 @@
 
 namespace mgelastic::app {
 namespace {
+
+// Cube edge (cells) of --residual-blocks: a few band widths, small next to a limb.
+constexpr int kResidualBlockCells = 8;
 
 grid::BoxSpec box_spec(const BoxBenchOptions& o) {
   grid::BoxSpec spec;
@@ -167,6 +171,19 @@ void add_per_cell_fields(nlohmann::json& record, const grid::Multigrid<Dim, Scal
 }
 
 // The fields every V-cycle record shares: seconds per cycle, memory, phases and roofline.
+// Where the finest residual sits after the last cycle (the double level: not in single
+// precision, which has none).
+template <int Dim, typename Scalar>
+void add_residual_blocks(nlohmann::json& record, const grid::Multigrid<Dim, Scalar>& mg,
+                         int count) {
+  if (count <= 0 || mg.single_precision()) return;
+  nlohmann::json blocks = nlohmann::json::array();
+  for (const auto& block : grid::residual_blocks<Dim>(mg.solution_level(), kResidualBlockCells,
+                                                      static_cast<std::size_t>(count)))
+    blocks.push_back({{"first_cell", block.first}, {"share", block.share}});
+  record["residual_blocks"] = blocks;
+}
+
 template <int Dim, typename Scalar>
 void add_cycle_fields(nlohmann::json& record, const grid::Multigrid<Dim, Scalar>& mg,
                       const grid::SolveReport& report, double triad_gb_per_s) {
@@ -206,6 +223,7 @@ nlohmann::json convergence(const BoxBenchOptions& o) {
       {"rate_settled", grid::rate_settled(report.residuals, floor)},
       {"solve_seconds", report.seconds}};
   add_cycle_fields(record, mg, report, o.triad_gb_per_s);
+  add_residual_blocks(record, mg, o.residual_blocks);
   return record;
 }
 
@@ -418,6 +436,7 @@ nlohmann::json mesh_vcycle(const std::string& file, int resolution, const BoxBen
                            {"last_ratio", grid::last_ratio(report.residuals, floor)},
                            {"rate_settled", grid::rate_settled(report.residuals, floor)}};
   add_cycle_fields(record, mg, report, o.triad_gb_per_s);
+  add_residual_blocks(record, mg, o.residual_blocks);
   record["vcycle_cpu_seconds"] = cycle_cpu;
   if (o.error_history) {
     const grid::ErrorHistory history =
@@ -547,6 +566,21 @@ void print_profile_summary(const nlohmann::json& records, const BoxBenchOptions&
       std::printf("mesh %s: %zu interior cells at resolution %d\n",
                   r["mesh"].get<std::string>().c_str(), r["interior_cells"].get<std::size_t>(),
                   r["n"].get<int>());
+  for (const auto& r : records) {
+    if (!r.contains("residual_blocks")) continue;
+    const std::string run =
+        r.contains("mesh") ? std::filesystem::path(r["mesh"].get<std::string>()).stem().string() +
+                                 " at " + std::to_string(r["n"].get<int>())
+                           : std::to_string(r["n"].get<int>()) + "^3 box";
+    std::printf(
+        "%s: residual after the last cycle, largest shares by %d^3-cell cube (first "
+        "cell):",
+        run.c_str(), kResidualBlockCells);
+    for (const auto& b : r["residual_blocks"])
+      std::printf(" (%d,%d,%d) %.3f", b["first_cell"][0].get<int>(), b["first_cell"][1].get<int>(),
+                  b["first_cell"][2].get<int>(), b["share"].get<double>());
+    std::printf("\n");
+  }
   if (std::any_of(records.begin(), records.end(),
                   [](const auto& r) { return !r.value("rate_settled", true); }))
     std::printf(
@@ -890,6 +924,9 @@ void register_bench_commands(CLI::App& app) {
                    "in 3D) or band_wide (sweep after sweep over the whole band, the paper's)")
       ->check(CLI::IsMember({"auto", "block_local", "band_wide"}));
   vcycle->add_option("--max-levels", profile_options.max_levels, "Levels at most (0 = no limit)");
+  vcycle->add_option("--residual-blocks", profile_options.residual_blocks,
+                     "Print the N cubes of 8^3 cells holding most of the residual after the last "
+                     "cycle (where a slow mode sits)");
   vcycle->add_option("--coarsest-min-cells", profile_options.coarsest_min_cells,
                      "Cells along the longest axis a coarse level keeps at least (default 16)");
   vcycle->add_option("--coarsest-max-boundary-fraction",

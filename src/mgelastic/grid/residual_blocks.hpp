@@ -1,0 +1,27 @@
+#pragma once
+// Where a level's residual sits: the squared residual of every row (stencil and band, all fields)
+// summed over cubes of `block` cells of the lattice (by storage coordinates: the cube of cell s
+// is s / block), the largest first, each as its share of the total. A slow mode of the V-cycle
+// shows as a few cubes holding most of the residual after many cycles (the armadillo's under its
+// feet, the bunny's in its ears: docs/notes/2026-12-06-variable-codes-and-embedded-slow-mode.md).
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include "mgelastic/grid/level.hpp"
+
+namespace mgelastic::grid {
+
+template <int Dim>
+struct ResidualBlock {
+  std::array<int, Dim> first;  // storage coordinates of the cube's first cell
+  double share = 0;            // of the sum of squared residuals over the level
+};
+
+// The `count` cubes of `block`^Dim cells with the largest sums of squared residuals (fewer where
+// fewer hold a nonzero residual), largest first; ties in storage order. Empty for a zero residual.
+template <int Dim>
+std::vector<ResidualBlock<Dim>> residual_blocks(const Level<Dim, double>& level, int block,
+                                                std::size_t count);
+
+}  // namespace mgelastic::grid

@@ -1,0 +1,57 @@
+#include "mgelastic/grid/residual_blocks.hpp"
+
+#include <gtest/gtest.h>
+
+#include "mgelastic/grid/box_problem.hpp"
+#include "mgelastic/grid/coarsening.hpp"
+
+namespace mgelastic::grid {
+namespace {
+
+Level<3, double> zero_mixed_box(int cells) {
+  BoxSpec spec;
+  spec.cells = cells;
+  spec.poisson_ratio = 0.48;
+  const auto problem = make_box_problem<3>(spec);
+  const auto coarse_cells = coarsen_cells(problem.lattice, problem.cells);
+  auto level =
+      build_level<3, double>(problem.lattice, problem.cells, problem.material, {}, &coarse_cells);
+  for (int f = 0; f <= 3; ++f) {
+    std::fill(level.x[f].begin(), level.x[f].end(), 0.0);
+    std::fill(level.b[f].begin(), level.b[f].end(), 0.0);
+  }
+  return level;
+}
+
+// With x = 0 the residual is b: two loads in two cubes give the cubes' shares 16/25 and 9/25,
+// in that order, at the cubes' first cells; one cell per cube gives the cells themselves.
+TEST(ResidualBlocks, FindTheCubesHoldingTheResidual) {
+  Level<3, double> level = zero_mixed_box(16);
+  const IVec<3> near{5, 9, 6}, far{12, 11, 10};
+  const std::ptrdiff_t k_near = level.lattice.index(near), k_far = level.lattice.index(far);
+  ASSERT_EQ(level.kind(0, k_near), VarKind::INTERIOR);
+  ASSERT_EQ(level.kind(3, k_far), VarKind::INTERIOR);
+  level.b[0][k_near] = 3.0;
+  level.b[3][k_far] = -4.0;
+
+  const auto blocks = residual_blocks<3>(level, 8, 10);
+  ASSERT_EQ(blocks.size(), 2u);
+  const double total = 9.0 + 16.0;
+  EXPECT_EQ(blocks[0].first, (std::array<int, 3>{8, 8, 8}));
+  EXPECT_NEAR(blocks[0].share, 16.0 / total, 1e-12);
+  EXPECT_EQ(blocks[1].first, (std::array<int, 3>{0, 8, 0}));
+  EXPECT_NEAR(blocks[1].share, 9.0 / total, 1e-12);
+
+  const auto cells = residual_blocks<3>(level, 1, 1);
+  ASSERT_EQ(cells.size(), 1u);
+  EXPECT_EQ(cells[0].first, (std::array<int, 3>{12, 11, 10}));
+  EXPECT_THROW(residual_blocks<3>(level, 0, 1), Error);
+}
+
+TEST(ResidualBlocks, ZeroResidualHasNoBlocks) {
+  const Level<3, double> level = zero_mixed_box(8);
+  EXPECT_TRUE(residual_blocks<3>(level, 4, 5).empty());
+}
+
+}  // namespace
+}  // namespace mgelastic::grid
