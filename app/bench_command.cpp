@@ -170,7 +170,6 @@ void add_per_cell_fields(nlohmann::json& record, const grid::Multigrid<Dim, Scal
                                            : 0.0;
 }
 
-// The fields every V-cycle record shares: seconds per cycle, memory, phases and roofline.
 // Where the finest residual sits after the last cycle (the double level: not in single
 // precision, which has none).
 template <int Dim, typename Scalar>
@@ -184,6 +183,7 @@ void add_residual_blocks(nlohmann::json& record, const grid::Multigrid<Dim, Scal
   record["residual_blocks"] = blocks;
 }
 
+// The fields every V-cycle record shares: seconds per cycle, memory, phases and roofline.
 template <int Dim, typename Scalar>
 void add_cycle_fields(nlohmann::json& record, const grid::Multigrid<Dim, Scalar>& mg,
                       const grid::SolveReport& report, double triad_gb_per_s) {

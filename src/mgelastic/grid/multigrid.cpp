@@ -156,7 +156,7 @@ void add_correction(const Level<Dim, Scalar>& fine, Level<Dim, double>& solution
     for (std::ptrdiff_t begin = 0; begin < size; begin += chunk) {
       const std::ptrdiff_t end = std::min(begin + chunk, size);
       if (!solution.live.any_live(begin, end)) continue;
-      if (!any_kind(kind.codes + begin, end - begin, kind.field, VarKind::INTERIOR)) continue;
+      if (!(kind + begin).any(end - begin, VarKind::INTERIOR)) continue;
       for (std::ptrdiff_t k = begin; k < end; ++k)
         x[k] += kind[k] == VarKind::INTERIOR ? static_cast<double>(e[k]) : 0.0;
     }
@@ -583,8 +583,8 @@ void Multigrid<Dim, Scalar>::set_solution_state(const SolutionState& x) {
   if (single_precision()) {
     copy_solution_state(x, m_levels.front().x, m_levels.front().live);
   } else {
-    // Only x changes: not through the mutable solution_level(), which forgets b's zero pages.
-    auto& solution = const_cast<Level<Dim, double>&>(std::as_const(*this).solution_level());
+    // Only x changes: b's released zero pages stay released (solution_level() would forget them).
+    Level<Dim, double>& solution = solution_storage();
     copy_solution_state(x, solution.x, solution.live);
   }
   m_solution_residual_current = false;

@@ -220,6 +220,8 @@ class Multigrid {
   };
   // release_zero_load_pages on the level that holds the loads (the solution's), if enabled.
   void release_zero_loads();
+  // solution_level() for this class's own writes of x alone: keeps b's zero-page record.
+  Level<Dim, double>& solution_storage();
   StartState capture_start() const;
   void restore_start(const StartState& start);
   [[noreturn]] void fail_diverged(const std::string& what, const std::string& reason,

@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <type_traits>
+#include <utility>
 
 #include "mgelastic/core/cancellation.hpp"
 #include "mgelastic/core/error.hpp"
@@ -18,11 +19,15 @@ namespace mgelastic::grid {
 template <int Dim, typename Scalar>
 Level<Dim, double>& Multigrid<Dim, Scalar>::solution_level() {
   m_solution_residual_current = false;  // the caller may change x or b
-  const auto& self = *this;
-  auto& level = const_cast<Level<Dim, double>&>(self.solution_level());
+  Level<Dim, double>& level = solution_storage();
   // b's released zero pages may be written from now on: count them again (conservative).
   level.zero_load_pages.clear();
   return level;
+}
+
+template <int Dim, typename Scalar>
+Level<Dim, double>& Multigrid<Dim, Scalar>::solution_storage() {
+  return const_cast<Level<Dim, double>&>(std::as_const(*this).solution_level());
 }
 
 template <int Dim, typename Scalar>
@@ -174,6 +179,7 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
 #define MGELASTIC_INSTANTIATE(D, S)                                         \
   template Level<D, double>& Multigrid<D, S>::solution_level();             \
   template const Level<D, double>& Multigrid<D, S>::solution_level() const; \
+  template Level<D, double>& Multigrid<D, S>::solution_storage();           \
   template SolveReport Multigrid<D, S>::solve_accelerated(double, int, int);
 MGELASTIC_INSTANTIATE(2, float)
 MGELASTIC_INSTANTIATE(2, double)

@@ -19,8 +19,8 @@ std::vector<ResidualBlock<Dim>> residual_blocks(const Level<Dim, double>& level,
     out[f] = r[f].data();
   }
   residual_into<Dim, double, double>(level, out);
-  // Cubes keyed by their first cell's storage coordinates (a std::map: lexicographic order,
-  // so equal sums keep storage order through the stable sort below).
+  // Cubes keyed by their first cell (a std::map: equal sums keep coordinate order through the
+  // stable sort below).
   std::map<std::array<int, Dim>, double> sums;
   double total = 0;
   for (std::size_t k = 0; k < level.size(); ++k) {
@@ -29,17 +29,12 @@ std::vector<ResidualBlock<Dim>> residual_blocks(const Level<Dim, double>& level,
     if (square == 0) continue;
     const IVec<Dim> s = level.lattice.coords(static_cast<std::ptrdiff_t>(k));
     std::array<int, Dim> first;
-    for (int a = 0; a < Dim; ++a) first[a] = s[Dim - 1 - a] / block * block;  // slowest axis first
+    for (int a = 0; a < Dim; ++a) first[a] = s[a] / block * block;
     sums[first] += square;
     total += square;
   }
   std::vector<ResidualBlock<Dim>> blocks;
-  for (const auto& [key, sum] : sums) {
-    ResidualBlock<Dim> b;
-    for (int a = 0; a < Dim; ++a) b.first[a] = key[Dim - 1 - a];
-    b.share = sum / total;
-    blocks.push_back(b);
-  }
+  for (const auto& [first, sum] : sums) blocks.push_back({first, sum / total});
   std::stable_sort(blocks.begin(), blocks.end(),
                    [](const auto& a, const auto& b) { return a.share > b.share; });
   if (blocks.size() > count) blocks.resize(count);

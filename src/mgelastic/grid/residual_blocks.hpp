@@ -19,7 +19,8 @@ struct ResidualBlock {
 };
 
 // The `count` cubes of `block`^Dim cells with the largest sums of squared residuals (fewer where
-// fewer hold a nonzero residual), largest first; ties in storage order. Empty for a zero residual.
+// fewer hold a nonzero residual), largest first; ties in coordinate order. Empty for a zero
+// residual.
 template <int Dim>
 std::vector<ResidualBlock<Dim>> residual_blocks(const Level<Dim, double>& level, int block,
                                                 std::size_t count);

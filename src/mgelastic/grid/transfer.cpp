@@ -11,7 +11,7 @@ namespace {
 // INTERIOR variables, so rows without one (outside an embedded body, most of its bounding box)
 // are skipped without reading the other level.
 bool has_interior(FieldKinds kind, int n) {
-  return any_kind(kind.codes, n, kind.field, VarKind::INTERIOR);
+  return kind.any(n, VarKind::INTERIOR);
 }
 
 struct Tap {

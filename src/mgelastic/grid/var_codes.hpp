@@ -48,29 +48,28 @@ constexpr Relaxation relaxation_of(VarCode code, int field) {
   return static_cast<Relaxation>((code >> (4 * field + 2)) & 0x3u);
 }
 
-// Whether (codes[i] & mask) == wanted for any of n codes: a byte-wise OR, which vectorizes (with
-// a bool accumulator GCC kept a scalar compare per entry). The kernels skip chunks and rows
-// outside an embedded body (most of its bounding box) with it.
-inline bool any_masked(const VarCode* codes, std::ptrdiff_t n, VarCode mask, VarCode wanted) {
+// Whether test(codes[i]) holds for any of n codes: a byte-wise OR, which vectorizes (with a bool
+// accumulator GCC kept a scalar compare per entry). The kernels skip chunks and rows outside an
+// embedded body (most of its bounding box) with it.
+template <typename Test>
+inline bool any_code(const VarCode* codes, std::ptrdiff_t n, Test test) {
   unsigned char any = 0;
 #pragma omp simd reduction(| : any)
-  for (std::ptrdiff_t i = 0; i < n; ++i)
-    any |= static_cast<unsigned char>((codes[i] & mask) == wanted);
+  for (std::ptrdiff_t i = 0; i < n; ++i) any |= static_cast<unsigned char>(test(codes[i]));
   return any != 0;
 }
 // Whether any of n codes has one of `bits` set.
 inline bool any_bits(const VarCode* codes, std::ptrdiff_t n, VarCode bits) {
-  unsigned char any = 0;
-#pragma omp simd reduction(| : any)
-  for (std::ptrdiff_t i = 0; i < n; ++i) any |= static_cast<unsigned char>((codes[i] & bits) != 0);
-  return any != 0;
+  return any_code(codes, n, [bits](VarCode code) { return (code & bits) != 0; });
 }
 inline bool any_kind(const VarCode* codes, std::ptrdiff_t n, int field, VarKind kind) {
-  return any_masked(codes, n, kind_mask(field), kind_bits(field, kind));
+  const VarCode mask = kind_mask(field), wanted = kind_bits(field, kind);
+  return any_code(codes, n, [=](VarCode code) { return (code & mask) == wanted; });
 }
 inline bool any_relaxation(const VarCode* codes, std::ptrdiff_t n, int field,
                            Relaxation relaxation) {
-  return any_masked(codes, n, relaxation_mask(field), relaxation_bits(field, relaxation));
+  const VarCode mask = relaxation_mask(field), wanted = relaxation_bits(field, relaxation);
+  return any_code(codes, n, [=](VarCode code) { return (code & mask) == wanted; });
 }
 
 // One field's kinds as an indexable view of the codes: kinds[i] = kind_of(codes[i], field).
@@ -79,6 +78,7 @@ struct FieldKinds {
   int field;
   VarKind operator[](std::ptrdiff_t i) const { return kind_of(codes[i], field); }
   FieldKinds operator+(std::ptrdiff_t offset) const { return {codes + offset, field}; }
+  bool any(std::ptrdiff_t n, VarKind kind) const { return any_kind(codes, n, field, kind); }
 };
 
 class VarCodes {
