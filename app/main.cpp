@@ -7,10 +7,12 @@
 #include "info_command.hpp"
 #include "interruption.hpp"
 #include "mgelastic/core/error.hpp"
+#include "mgelastic/core/heap_policy.hpp"
 #include "run_command.hpp"
 #include "scene_commands.hpp"
 
 int main(int argc, char** argv) {
+  mgelastic::restore_heap_release();  // hypre's dependencies switched it off (heap_policy.hpp)
   CLI::App app{"mgelastic: multigrid simulation of elastic solids"};
   app.require_subcommand(1);
   app.add_subcommand("version", "Print the version")->callback([] {

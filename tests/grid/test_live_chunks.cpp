@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -207,6 +208,34 @@ TEST(LiveChunks, ZeroLoadPagesOfTheSinglePrecisionFinestLevel) {
   expect_zero_load_pages(released, kept, fine);
   released.level(0);
   for (int f = 0; f <= 3; ++f) EXPECT_EQ(fine.zero_load_bytes(f), 0u) << f;
+}
+
+// Clearing a right-hand side before new loads writes only the chunks holding a nonzero: pages
+// released as zero stay released, and the nonzero one is cleared. zero_where_live sees both.
+TEST(LiveChunks, ClearingLoadsLeavesZeroPagesUnwritten) {
+  const ElasticityProblem<3> problem = gravity_box(0.3);
+  Multigrid<3, float> mg(problem);
+  const Level<3, double>& solution = std::as_const(mg).solution_level();
+  std::vector<double> b(solution.b[0].size(), 0.0);
+  const auto released = release_zero_pages(b, solution.live);
+  ASSERT_GE(released.size(), 1u);
+  const std::size_t k = b.size() / 2;
+  b[k] = 1.0;
+  EXPECT_FALSE(zero_where_live(b, solution.live));
+  zero_live_where_nonzero(b, solution.live);
+  EXPECT_EQ(b[k], 0.0);
+  EXPECT_TRUE(zero_where_live(b, solution.live));
+  // Away from the 2 MiB range of b[k] (whose write may have faulted in a huge page).
+  const auto range = reinterpret_cast<std::uintptr_t>(&b[k]) & ~std::uintptr_t((2 << 20) - 1);
+  std::vector<std::pair<std::uintptr_t, std::uintptr_t>> away;
+  for (const auto& [p0, p1] : released) {
+    if (p0 < range) away.emplace_back(p0, std::min(p1, range));
+    if (p1 > range + (2 << 20)) away.emplace_back(std::max(p0, range + (2 << 20)), p1);
+  }
+  ASSERT_FALSE(away.empty());
+  const long written = written_pages(away);
+  if (written < 0) GTEST_SKIP() << "/proc/self/pagemap is not readable here";
+  EXPECT_EQ(written, 0);
 }
 
 }  // namespace

@@ -101,5 +101,30 @@ TEST(SolverHealth, ResidualGrowthIsTracedToItsPhase) {
   expect_contains(message, "prolongation");
 }
 
+// The last residual of a solve's history as its message prints it.
+double last_in_history(const std::string& message) {
+  const std::string key = "residual history: ";
+  const std::size_t begin = message.find(key) + key.size();
+  const std::size_t end = message.find(';', begin);
+  const std::string history = message.substr(begin, end - begin);
+  return std::stod(history.substr(history.rfind(' ') + 1));
+}
+
+// Mixed precision keeps a solve's start for the replay as the live chunks of x, or nothing when x
+// starts at zero: either way the replay ends where the solve did (a wrong start would not).
+TEST(SolverHealth, ReplayRestartsFromTheSolvesStart) {
+  for (int earlier_cycles : {0, 3}) {
+    Multigrid<2, float> mg(make_box_problem<2>(box_64()), three_levels());
+    ASSERT_FALSE(mg.single_precision());  // a double solution level over float levels
+    mg.run_cycles(earlier_cycles);
+    mg.level(1).mu *= 1e-3;
+    mg.level(1).lambda *= 1e-3;
+    const std::string message = failure([&] { mg.solve(1e-8, 50); });
+    expect_contains(message, "diverged: the residual grew to");
+    const double last = last_in_history(message);
+    EXPECT_NEAR(mg.residual(), last, 1e-3 * last) << earlier_cycles;
+  }
+}
+
 }  // namespace
 }  // namespace mgelastic::grid

@@ -664,8 +664,12 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
   // empty until a residual array is asked for (residual.hpp: ensure_residual_storage); the
   // V-cycle needs none (residual_restriction.hpp).
   if (release_dead_pages) level.live = find_live_chunks<Dim>(level.lattice, level.codes);
-  for (int f = 0; f <= Dim; ++f)
+  // b is handed back whole until written (a load writes few of its fields, a coarse level's b
+  // is the restricted residual): the setup's peak holds one zero array less per field.
+  for (int f = 0; f <= Dim; ++f) {
     for (auto* field : {&level.x[f], &level.b[f]}) assign_zeros_sparse(*field, n, level.live);
+    if (release_dead_pages) release_zero_pages(level.b[f], level.live);
+  }
   std::vector<std::uint8_t> pre(Dim * n, 0), post(Dim * n, 0);
   classify_relaxation(level, coarse_cells, pre, post, band_layers);
   const RowBuilder<Dim> builder(level.lattice, level.cells, material.mu(), sigma, inertia,

@@ -72,6 +72,29 @@ void zero_live(std::vector<T>& v, const LiveChunks& live) {
   zero_live(v.data(), 0, static_cast<std::ptrdiff_t>(v.size()), live);
 }
 
+// zero_live that writes only the live chunks holding a nonzero: pages of a right-hand side that
+// release_zero_pages handed back stay without memory where they were zero (reads map none).
+template <typename T>
+void zero_live_where_nonzero(std::vector<T>& v, const LiveChunks& live) {
+  for_each_live_chunk(
+      live, 0, static_cast<std::ptrdiff_t>(v.size()), [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+        if (std::any_of(v.begin() + lo, v.begin() + hi, [](T value) { return value != T(0); }))
+          std::fill(v.begin() + lo, v.begin() + hi, T(0));
+      });
+}
+
+// Whether v holds only zeros (its dead chunks do by the invariant above; reads map no memory).
+template <typename T>
+bool zero_where_live(const std::vector<T>& v, const LiveChunks& live) {
+  bool zero = true;
+  for_each_live_chunk(
+      live, 0, static_cast<std::ptrdiff_t>(v.size()), [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+        zero = zero &&
+               std::all_of(v.begin() + lo, v.begin() + hi, [](T value) { return value == T(0); });
+      });
+  return zero;
+}
+
 // dst = src (converted to dst's type) for arrays of one level: where the sizes match only the
 // live chunks are copied (src is zero in the dead ones, by the invariant above), so dst's
 // released pages stay released.

@@ -77,15 +77,16 @@ bool same_lattice(const Lattice<Dim>& a, const Lattice<Dim>& b) {
 
 template <int Dim, typename Scalar>
 void write_load_right_hand_side(const ElasticityProblem<Dim>& problem, Level<Dim, Scalar>& level) {
-  for (auto& b : level.b) zero_live(b, level.live);
+  // Zero loads write nothing: b's pages that hold only zeros stay released (level.hpp).
+  for (auto& b : level.b) zero_live_where_nonzero(b, level.live);
   for (const VariableLoad& load : problem.variable_loads)
     level.b[load.component][load.face] -= static_cast<Scalar>(load.density);
   if (!problem.body_force) return;
   for (int i = 0; i < Dim; ++i) {
     for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(level.size()); ++k) {
-      if (level.kind(i, k) == VarKind::INTERIOR)
-        level.b[i][k] -=
-            static_cast<Scalar>(problem.body_force(level.lattice.face_center(i, k))[i]);
+      if (level.kind(i, k) != VarKind::INTERIOR) continue;
+      const auto f = static_cast<Scalar>(problem.body_force(level.lattice.face_center(i, k))[i]);
+      if (f != Scalar(0)) level.b[i][k] -= f;
     }
   }
 }

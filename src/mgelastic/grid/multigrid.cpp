@@ -539,11 +539,17 @@ auto Multigrid<Dim, Scalar>::capture_start() const -> StartState {
   // 256 this took 1.3 s per solve on a virtual machine).
   StartState start;
   start.packed = true;
+  const auto zero = [](const auto& level) {
+    return std::all_of(level.x.begin(), level.x.end(),
+                       [&](const auto& x) { return zero_where_live(x, level.live); });
+  };
   if (single_precision()) {
-    for (int f = 0; f <= Dim; ++f)
+    start.zero = zero(m_levels.front());
+    for (int f = 0; f <= Dim && !start.zero; ++f)
       start.single[f] = pack_live(m_levels.front().x[f], m_levels.front().live);
   } else if (m_solution) {
-    for (int f = 0; f <= Dim; ++f)
+    start.zero = zero(*m_solution);
+    for (int f = 0; f <= Dim && !start.zero; ++f)
       start.solution[f] = pack_live(m_solution->x[f], m_solution->live);
   } else {
     start.solution = solution_state();
@@ -557,11 +563,21 @@ void Multigrid<Dim, Scalar>::restore_start(const StartState& start) {
   if (!start.packed) {
     set_solution_state(start.solution);
   } else if (single_precision()) {
-    for (int f = 0; f <= Dim; ++f)
-      unpack_live(start.single[f], m_levels.front().x[f], m_levels.front().live);
+    for (int f = 0; f <= Dim; ++f) {
+      std::vector<Scalar>& x = m_levels.front().x[f];
+      if (start.zero)
+        zero_live(x, m_levels.front().live);
+      else
+        unpack_live(start.single[f], x, m_levels.front().live);
+    }
   } else {
-    for (int f = 0; f <= Dim; ++f)
-      unpack_live(start.solution[f], m_solution->x[f], m_solution->live);
+    for (int f = 0; f <= Dim; ++f) {
+      std::vector<double>& x = solution_storage().x[f];
+      if (start.zero)
+        zero_live(x, m_solution->live);
+      else
+        unpack_live(start.solution[f], x, m_solution->live);
+    }
     m_solution_residual_current = false;
   }
 }

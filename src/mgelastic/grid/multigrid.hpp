@@ -217,6 +217,7 @@ class Multigrid {
     SolutionState solution;
     std::array<std::vector<Scalar>, Dim + 1> single;
     bool packed = false;  // the arrays hold the live chunks only (live_chunks.hpp: pack_live)
+    bool zero = false;    // x started at zero: nothing stored (at 512^3 a copy is 4.4 GB)
   };
   // release_zero_load_pages on the level that holds the loads (the solution's), if enabled.
   void release_zero_loads();
