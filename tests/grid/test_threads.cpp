@@ -1,7 +1,10 @@
 #include <gtest/gtest.h>
 
+#include "grid_test_support.hpp"
 #include "mgelastic/core/threads.hpp"
 #include "mgelastic/grid/box_problem.hpp"
+#include "mgelastic/grid/coarsening.hpp"
+#include "mgelastic/grid/level.hpp"
 #include "mgelastic/grid/multigrid.hpp"
 
 namespace mgelastic::grid {
@@ -41,6 +44,41 @@ TEST(Threads, FloatCyclesDoNotDependOnThreadCount) {
   ASSERT_EQ(serial.size(), parallel.size());
   for (std::size_t i = 0; i < serial.size(); ++i)
     ASSERT_EQ(serial[i], parallel[i]) << "entry " << i;
+}
+
+// The threads build a level's relaxation classes and band rows in lattice ranges, joined in
+// order: the same codes, rows, pressure couplings and Fig. 8 sets for any thread count (three
+// threads split the lattice unevenly).
+TEST(Threads, LevelBuildDoesNotDependOnThreadCount) {
+  const ElasticityProblem<3> problem = test::clamped_ball(20);
+  const std::vector<CellType> coarse = coarsen_cells(problem.lattice, problem.cells);
+  auto build = [&](int threads) {
+    set_thread_count(threads);
+    return build_level<3, float>(problem.lattice, problem.cells, problem.material,
+                                 BoundaryStress<3>{}, &coarse);
+  };
+  const Level<3, float> one = build(1), two = build(2), three = build(3);
+  set_thread_count(0);
+  ASSERT_GT(one.band_u.rows(), 0u);
+  ASSERT_GT(one.band_p.rows(), 0u);
+  ASSERT_GT(one.pre_restriction_rows.size(), 0u);
+  for (const Level<3, float>* other : {&two, &three}) {
+    EXPECT_TRUE(one.codes.same_values(other->codes));
+    for (auto rows : {&Level<3, float>::band_u, &Level<3, float>::band_p}) {
+      EXPECT_EQ((one.*rows).target, (other->*rows).target);
+      EXPECT_EQ((one.*rows).start, (other->*rows).start);
+      EXPECT_EQ((one.*rows).value, (other->*rows).value);
+      EXPECT_EQ((one.*rows).constant, (other->*rows).constant);
+      EXPECT_EQ((one.*rows).column_index, (other->*rows).column_index);
+      EXPECT_EQ((one.*rows).column_field, (other->*rows).column_field);
+    }
+    EXPECT_EQ(one.band_u_schur_diagonal, other->band_u_schur_diagonal);
+    EXPECT_EQ(one.band_u_pressure, other->band_u_pressure);
+    EXPECT_EQ(one.band_u_pressure_factor, other->band_u_pressure_factor);
+    EXPECT_EQ(one.band_p_inverse, other->band_p_inverse);
+    EXPECT_EQ(one.pre_restriction_rows, other->pre_restriction_rows);
+    EXPECT_EQ(one.post_prolongation_rows, other->post_prolongation_rows);
+  }
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <string>
 #include <unordered_map>
 
+#include <omp.h>
 #include <Eigen/Dense>
 #include <cstdlib>
 
@@ -106,6 +107,32 @@ struct RelocationTest {
   const Lattice<Dim>& fine;
   Lattice<Dim> coarse;
   const std::vector<CellType>& coarse_cells;
+  // Per coarse cell: it and its 3^Dim - 1 neighbours are interior. Every coarse face classify
+  // looks at lies between cells within one cell of the fine location's parent, so where the
+  // parent is deep the answer is {false, false} without the search (most of a body).
+  std::vector<std::uint8_t> deep = interior_neighbourhoods();
+
+  std::vector<std::uint8_t> interior_neighbourhoods() const {
+    const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(coarse.size());
+    std::vector<std::uint8_t> v(n), eroded(n);
+    for (std::ptrdiff_t k = 0; k < n; ++k) v[k] = coarse_cells[k] == CellType::INTERIOR;
+    for (int a = 0; a < Dim; ++a) {  // erosion by one cell along each axis in turn
+      const std::ptrdiff_t sa = coarse.stride(a);
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t k = 0; k < n; ++k) {
+        const int t = coarse.coords(k)[a];
+        eroded[k] = t > 0 && t + 1 < coarse.padded(a) && v[k] && v[k - sa] && v[k + sa];
+      }
+      v.swap(eroded);
+    }
+    return v;
+  }
+
+  std::ptrdiff_t parent(const IVec<Dim>& s) const {
+    IVec<Dim> c;
+    for (int a = 0; a < Dim; ++a) c[a] = (s[a] - 1) / 2 + 1;
+    return coarse.index(c);
+  }
 
   bool coarse_face_interior(int axis, const IVec<Dim>& stored) const {
     for (int a = 0; a < Dim; ++a)
@@ -150,6 +177,7 @@ struct RelocationTest {
   // Returns {restricts onto a coarse non-equation, prolongates from a coarse boundary variable}.
   std::pair<bool, bool> classify(int axis, std::ptrdiff_t k) const {
     const IVec<Dim> s = fine.coords(k);
+    if (deep[parent(s)]) return {false, false};
     std::array<Coordinates, Dim> restrict_to, prolong_from;
     for (int a = 0; a < Dim; ++a) {
       const int c = s[a] - 1;  // unpadded face (a == axis) or cell coordinate
@@ -244,6 +272,7 @@ void classify_relaxation(Level<Dim, Scalar>& level, const std::vector<CellType>*
   // Eliminated pressures (relaxed exactly, Schur pivots in the band): cells with an exterior
   // neighbor (traction-modified pressure rows) and cells whose coarse parent is not interior
   // (Fig. 8: the coarse grid cannot correct them, so they must be relaxed robustly here).
+#pragma omp parallel for schedule(static)
   for (std::ptrdiff_t k = 0; k < n; ++k) {
     if (level.kind(Dim, k) != VarKind::INTERIOR) continue;
     const bool relocated = relocation && !relocation->coarse_parent_interior(k);
@@ -256,21 +285,26 @@ void classify_relaxation(Level<Dim, Scalar>& level, const std::vector<CellType>*
   band_partly_filled_cells(level);
   // Band faces: non-uniform footprint, next to an eliminated pressure (a psi step there would
   // be undone by the exact pressure update and over-relax u), or in the Fig. 8 sets.
+  // Decided in parallel (reads only), then written: codes hold all fields of a cell in one word.
+  std::vector<std::uint8_t> band(n);
   for (int i = 0; i < Dim; ++i) {
     const std::ptrdiff_t si = level.lattice.stride(i);
+#pragma omp parallel for schedule(static)
     for (std::ptrdiff_t k = 0; k < n; ++k) {
       if (level.kind(i, k) != VarKind::INTERIOR) continue;
-      bool band = !classifier.distributive_face(i, k) ||
-                  level.relaxation(Dim, k) == Relaxation::BAND ||
-                  level.relaxation(Dim, k - si) == Relaxation::BAND;
+      band[k] = !classifier.distributive_face(i, k) ||
+                level.relaxation(Dim, k) == Relaxation::BAND ||
+                level.relaxation(Dim, k - si) == Relaxation::BAND;
       if (relocation) {
         const auto [restricts_badly, prolongs_badly] = relocation->classify(i, k);
         pre[i * n + k] = restricts_badly;
         post[i * n + k] = prolongs_badly;
-        band = band || restricts_badly || prolongs_badly;
+        band[k] = band[k] || restricts_badly || prolongs_badly;
       }
-      level.codes.set_relaxation(i, k, band ? Relaxation::BAND : Relaxation::DISTRIBUTIVE);
     }
+    for (std::ptrdiff_t k = 0; k < n; ++k)
+      if (level.kind(i, k) == VarKind::INTERIOR)
+        level.codes.set_relaxation(i, k, band[k] ? Relaxation::BAND : Relaxation::DISTRIBUTIVE);
   }
 }
 
@@ -279,56 +313,149 @@ double fill_weight(const Level<Dim, Scalar>& level, std::ptrdiff_t cell) {
   return level.cell_weight.empty() ? 1.0 : level.cell_weight[cell];
 }
 
+// Appends `from` (rows with their own start{0}) to `to`.
+template <typename Scalar>
+void append_rows(SparseRows<Scalar>& to, const SparseRows<Scalar>& from) {
+  const auto append = [](auto& a, const auto& b) { a.insert(a.end(), b.begin(), b.end()); };
+  const auto offset = static_cast<std::uint32_t>(to.entries());
+  for (std::size_t r = 1; r < from.start.size(); ++r) to.start.push_back(from.start[r] + offset);
+  append(to.target, from.target);
+  append(to.value, from.value);
+  append(to.constant, from.constant);
+  append(to.target_field, from.target_field);
+  append(to.column_field, from.column_field);
+  append(to.target_index, from.target_index);
+  append(to.column_index, from.column_index);
+}
+
+// Room for the rows of all parts at once (no regrowth while they are joined).
+template <typename Scalar, typename Part>
+std::size_t reserve_rows(SparseRows<Scalar>& to, const std::vector<Part>& parts) {
+  std::size_t rows = to.rows(), entries = to.entries();
+  for (const Part& part : parts) rows += part.rows.rows(), entries += part.rows.entries();
+  for (auto* v : {&to.target, &to.start, &to.target_index}) v->reserve(rows + 1);
+  to.constant.reserve(rows);
+  to.target_field.reserve(rows);
+  to.value.reserve(entries);
+  to.column_field.reserve(entries);
+  to.column_index.reserve(entries);
+  return rows;
+}
+
+// Builds part(t, begin, end) for T contiguous ranges of [0, n), one per thread, and returns the
+// parts in range order: joined in that order they are the serial build's, for any thread count.
+template <typename Part, typename Build>
+std::vector<Part> build_in_ranges(std::ptrdiff_t n, Build&& build) {
+  std::vector<Part> parts(static_cast<std::size_t>(std::max(1, omp_get_max_threads())));
+#pragma omp parallel num_threads(static_cast <int>(parts.size()))
+  {
+    const auto t = static_cast<std::ptrdiff_t>(omp_get_thread_num());
+    const auto count = static_cast<std::ptrdiff_t>(omp_get_num_threads());
+    build(parts[static_cast<std::size_t>(t)], n * t / count, n * (t + 1) / count);
+  }
+  return parts;
+}
+
+template <typename Scalar>
+struct PressureRowsPart {
+  SparseRows<Scalar> rows;
+  std::vector<Scalar> extra, inverse;
+  std::vector<std::ptrdiff_t> cells;
+};
+
+template <typename Scalar>
+struct MomentumRowsPart {
+  SparseRows<Scalar> rows;
+  std::vector<std::array<std::uint32_t, 2>> pressure;
+  std::vector<std::array<Scalar, 2>> factor;
+  std::vector<Scalar> schur;
+  std::vector<std::uint32_t> pre, post;  // row numbers within the part
+};
+
+// The band's explicit rows, in lattice order (all components at one location together: Gauss-
+// Seidel then sweeps the thin band like a front, which converges faster than component by
+// component). Built by the threads in contiguous lattice ranges and joined in order.
 template <int Dim, typename Scalar>
 void build_band_rows(Level<Dim, Scalar>& level, const RowBuilder<Dim>& builder,
                      const std::vector<std::uint8_t>& pre, const std::vector<std::uint8_t>& post) {
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(level.size());
   const double mu = level.mu, lambda = level.lambda;
-  std::vector<std::int32_t> band_p_index(n, -1);
-  for (std::ptrdiff_t k = 0; k < n; ++k) {
-    if (level.relaxation(Dim, k) != Relaxation::BAND) continue;
-    const ExplicitRow row = builder.pressure(k);
-    band_p_index[k] = static_cast<std::int32_t>(level.band_p.rows());
-    append_row(level.band_p, level.global(Dim, k), row, level.size());
-    level.band_p_extra.push_back(static_cast<Scalar>(row.pressure_extra));
-    // 1/D with D = mu^2/lambda + extra, written to stay finite (zero) at lambda = 0.
-    level.band_p_inverse.push_back(
-        static_cast<Scalar>(lambda / (mu * mu + lambda * row.pressure_extra)));
-  }
-  // Rows in lattice order (all components at one location together): Gauss-Seidel then
-  // sweeps the thin band like a front, which converges faster than component by component.
-  for (std::ptrdiff_t k = 0; k < n; ++k) {
-    for (int i = 0; i < Dim; ++i) {
-      if (level.relaxation(i, k) != Relaxation::BAND) continue;
-      const ExplicitRow row = builder.momentum(i, k);
-      const std::uint32_t self = level.global(i, k);
-      double schur = 0.0;
-      std::array<std::uint32_t, 2> coupled{UINT32_MAX, UINT32_MAX};
-      std::array<Scalar, 2> factor{0, 0};
-      int m = 0;
-      for (const RowTerm& t : row.terms) {
-        if (t.variable == self) schur += t.coefficient;
-        // Adjacent pressures relaxed distributively stay fixed during band sweeps (Sec. 5.3:
-        // interior variables not being smoothed act as Dirichlet values); eliminated band
-        // pressures follow u exactly, which gives the Schur-complement pivot.
-        if (t.variable / n == static_cast<std::uint32_t>(Dim) &&
-            band_p_index[t.variable % n] >= 0) {
-          // The pressure row's coefficient of u is this row's divided by the fill weight.
-          const double inverse = level.band_p_inverse[band_p_index[t.variable % n]] /
-                                 fill_weight(level, t.variable % n);
-          schur -= t.coefficient * t.coefficient * inverse;
-          coupled[m] = t.variable % n;
-          factor[m++] = static_cast<Scalar>(inverse * t.coefficient);
+  auto pressure_parts = build_in_ranges<PressureRowsPart<Scalar>>(
+      n, [&](PressureRowsPart<Scalar>& part, std::ptrdiff_t begin, std::ptrdiff_t end) {
+        for (std::ptrdiff_t k = begin; k < end; ++k) {
+          if (level.relaxation(Dim, k) != Relaxation::BAND) continue;
+          const ExplicitRow row = builder.pressure(k);
+          append_row(part.rows, level.global(Dim, k), row, level.size());
+          part.extra.push_back(static_cast<Scalar>(row.pressure_extra));
+          // 1/D with D = mu^2/lambda + extra, written to stay finite (zero) at lambda = 0.
+          part.inverse.push_back(
+              static_cast<Scalar>(lambda / (mu * mu + lambda * row.pressure_extra)));
+          part.cells.push_back(k);
         }
-      }
-      level.band_u_pressure.push_back(coupled);
-      level.band_u_pressure_factor.push_back(factor);
-      const auto index = static_cast<std::uint32_t>(level.band_u.rows());
-      if (pre[i * n + k]) level.pre_restriction_rows.push_back(index);
-      if (post[i * n + k]) level.post_prolongation_rows.push_back(index);
-      append_row(level.band_u, self, row, level.size());
-      level.band_u_schur_diagonal.push_back(static_cast<Scalar>(schur));
-    }
+      });
+  std::vector<std::int32_t> band_p_index(n, -1);
+  const std::size_t pressure_rows = reserve_rows(level.band_p, pressure_parts);
+  level.band_p_extra.reserve(pressure_rows);
+  level.band_p_inverse.reserve(pressure_rows);
+  for (auto& part : pressure_parts) {
+    for (std::size_t r = 0; r < part.cells.size(); ++r)
+      band_p_index[part.cells[r]] = static_cast<std::int32_t>(level.band_p_extra.size() + r);
+    append_rows(level.band_p, part.rows);
+    level.band_p_extra.insert(level.band_p_extra.end(), part.extra.begin(), part.extra.end());
+    level.band_p_inverse.insert(level.band_p_inverse.end(), part.inverse.begin(),
+                                part.inverse.end());
+    part = {};  // freed once joined (the setup's peak)
+  }
+  auto momentum_parts = build_in_ranges<MomentumRowsPart<Scalar>>(
+      n, [&](MomentumRowsPart<Scalar>& part, std::ptrdiff_t begin, std::ptrdiff_t end) {
+        for (std::ptrdiff_t k = begin; k < end; ++k) {
+          for (int i = 0; i < Dim; ++i) {
+            if (level.relaxation(i, k) != Relaxation::BAND) continue;
+            const ExplicitRow row = builder.momentum(i, k);
+            const std::uint32_t self = level.global(i, k);
+            double schur = 0.0;
+            std::array<std::uint32_t, 2> coupled{UINT32_MAX, UINT32_MAX};
+            std::array<Scalar, 2> factor{0, 0};
+            int m = 0;
+            for (const RowTerm& t : row.terms) {
+              if (t.variable == self) schur += t.coefficient;
+              // Adjacent pressures relaxed distributively stay fixed during band sweeps (Sec.
+              // 5.3: interior variables not being smoothed act as Dirichlet values); eliminated
+              // band pressures follow u exactly, which gives the Schur-complement pivot.
+              if (t.variable / n == static_cast<std::uint32_t>(Dim) &&
+                  band_p_index[t.variable % n] >= 0) {
+                // The pressure row's coefficient of u is this row's divided by the fill weight.
+                const double inverse = level.band_p_inverse[band_p_index[t.variable % n]] /
+                                       fill_weight(level, t.variable % n);
+                schur -= t.coefficient * t.coefficient * inverse;
+                coupled[m] = t.variable % n;
+                factor[m++] = static_cast<Scalar>(inverse * t.coefficient);
+              }
+            }
+            const auto index = static_cast<std::uint32_t>(part.rows.rows());
+            part.pressure.push_back(coupled);
+            part.factor.push_back(factor);
+            if (pre[i * n + k]) part.pre.push_back(index);
+            if (post[i * n + k]) part.post.push_back(index);
+            append_row(part.rows, self, row, level.size());
+            part.schur.push_back(static_cast<Scalar>(schur));
+          }
+        }
+      });
+  const auto append = [](auto& a, const auto& b) { a.insert(a.end(), b.begin(), b.end()); };
+  const std::size_t momentum_rows = reserve_rows(level.band_u, momentum_parts);
+  level.band_u_pressure.reserve(momentum_rows);
+  level.band_u_pressure_factor.reserve(momentum_rows);
+  level.band_u_schur_diagonal.reserve(momentum_rows);
+  for (auto& part : momentum_parts) {
+    const auto offset = static_cast<std::uint32_t>(level.band_u.rows());
+    for (std::uint32_t r : part.pre) level.pre_restriction_rows.push_back(offset + r);
+    for (std::uint32_t r : part.post) level.post_prolongation_rows.push_back(offset + r);
+    append_rows(level.band_u, part.rows);
+    append(level.band_u_pressure, part.pressure);
+    append(level.band_u_pressure_factor, part.factor);
+    append(level.band_u_schur_diagonal, part.schur);
+    part = {};
   }
 }
 
@@ -641,7 +768,7 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
                                int band_layers, std::vector<double> cell_weight,
                                double dirichlet_zero_depth,
                                std::vector<std::uint8_t> dirichlet_wall_layers,
-                               bool release_dead_pages) {
+                               bool release_dead_pages, LevelUse use) {
   Level<Dim, Scalar> level;
   level.dirichlet_zero_depth = dirichlet_zero_depth;
   level.dirichlet_wall_layers = std::move(dirichlet_wall_layers);
@@ -676,12 +803,14 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
                                 level.cell_weight.empty() ? nullptr : &level.cell_weight,
                                 level.dirichlet_zero_depth, &level.dirichlet_wall_layers);
   build_band_rows(level, builder, pre, post);
-  build_band_blocks(level);
   build_band_kernel(level);
   level.blocks = partition_into_blocks(level.lattice);
-  build_band_schedule(level);
-  build_band_runs(level);
   build_traction_rules(level, sigma);
+  if (use == LevelUse::CYCLE) {
+    build_band_blocks(level);
+    build_band_schedule(level);
+    build_band_runs(level);
+  }
   shrink_band_arrays(level);
   return level;
 }
@@ -717,7 +846,7 @@ std::size_t Level<Dim, Scalar>::zero_load_bytes(int field) const {
   template Level<D, S> build_level<D, S>(                                                  \
       const Lattice<D>&, std::vector<CellType>, const Material&, const BoundaryStress<D>&, \
       const std::vector<CellType>*, double, int, std::vector<double>, double,              \
-      std::vector<std::uint8_t>, bool);                                                    \
+      std::vector<std::uint8_t>, bool, LevelUse);                                          \
   template void set_dirichlet_values<D, S>(Level<D, S>&,                                   \
                                            const std::function<Vec<D>(const Vec<D>&)>&);
 MGELASTIC_INSTANTIATE(2, float)

@@ -231,6 +231,10 @@ struct Level {
   std::size_t bytes() const;
 };
 
+// What a level is built for: a level of the cycle (smoothed: band blocks, sweep schedules and
+// runs) or the double solution level of mixed precision (residuals and loads only).
+enum class LevelUse { CYCLE, RESIDUAL };
+
 // Builds a level: classifies variables, picks distributive vs band relaxation, builds the band
 // rows and traction rules. `coarse_cells` (may be null on the coarsest level) is the next coarser
 // level's typing, which defines the Fig. 8 sets. Dirichlet values are not set here. `inertia`
@@ -245,7 +249,7 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
                                int band_layers = 0, std::vector<double> cell_weight = {},
                                double dirichlet_zero_depth = 0.0,
                                std::vector<std::uint8_t> dirichlet_wall_layers = {},
-                               bool release_dead_pages = true);
+                               bool release_dead_pages = true, LevelUse use = LevelUse::CYCLE);
 
 // Writes prescribed displacements into every Dirichlet variable of the level.
 template <int Dim, typename Scalar>

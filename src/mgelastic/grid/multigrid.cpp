@@ -241,10 +241,10 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
   for (std::size_t l = 0; l + 1 < m_levels.size(); ++l)
     m_band_row_planes.push_back(band_row_planes(m_levels[l]));
   if (mixed_precision()) {
-    m_solution = std::make_unique<Level<Dim, double>>(
-        build_level<Dim, double>(lattices[0], cells[0], problem.material, problem.boundary_stress,
-                                 lattices.size() > 1 ? &cells[1] : nullptr, problem.inertia,
-                                 m_options.band_layers, {}, 0.0, {}, m_options.release_dead_pages));
+    m_solution = std::make_unique<Level<Dim, double>>(build_level<Dim, double>(
+        lattices[0], cells[0], problem.material, problem.boundary_stress,
+        lattices.size() > 1 ? &cells[1] : nullptr, problem.inertia, m_options.band_layers, {}, 0.0,
+        {}, m_options.release_dead_pages, LevelUse::RESIDUAL));
     release_sweep_data(*m_solution);
     share_variable_codes(m_levels.front(), *m_solution);
     set_dirichlet_values(*m_solution, problem.dirichlet_displacement);
