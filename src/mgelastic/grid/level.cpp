@@ -313,10 +313,14 @@ double fill_weight(const Level<Dim, Scalar>& level, std::ptrdiff_t cell) {
   return level.cell_weight.empty() ? 1.0 : level.cell_weight[cell];
 }
 
+template <typename T>
+void append(std::vector<T>& to, const std::vector<T>& from) {
+  to.insert(to.end(), from.begin(), from.end());
+}
+
 // Appends `from` (rows with their own start{0}) to `to`.
 template <typename Scalar>
 void append_rows(SparseRows<Scalar>& to, const SparseRows<Scalar>& from) {
-  const auto append = [](auto& a, const auto& b) { a.insert(a.end(), b.begin(), b.end()); };
   const auto offset = static_cast<std::uint32_t>(to.entries());
   for (std::size_t r = 1; r < from.start.size(); ++r) to.start.push_back(from.start[r] + offset);
   append(to.target, from.target);
@@ -346,8 +350,9 @@ std::size_t reserve_rows(SparseRows<Scalar>& to, const std::vector<Part>& parts)
 // parts in range order: joined in that order they are the serial build's, for any thread count.
 template <typename Part, typename Build>
 std::vector<Part> build_in_ranges(std::ptrdiff_t n, Build&& build) {
-  std::vector<Part> parts(static_cast<std::size_t>(std::max(1, omp_get_max_threads())));
-#pragma omp parallel num_threads(static_cast <int>(parts.size()))
+  const int threads = std::max(1, omp_get_max_threads());
+  std::vector<Part> parts(static_cast<std::size_t>(threads));
+#pragma omp parallel num_threads(threads)
   {
     const auto t = static_cast<std::ptrdiff_t>(omp_get_thread_num());
     const auto count = static_cast<std::ptrdiff_t>(omp_get_num_threads());
@@ -401,9 +406,8 @@ void build_band_rows(Level<Dim, Scalar>& level, const RowBuilder<Dim>& builder,
     for (std::size_t r = 0; r < part.cells.size(); ++r)
       band_p_index[part.cells[r]] = static_cast<std::int32_t>(level.band_p_extra.size() + r);
     append_rows(level.band_p, part.rows);
-    level.band_p_extra.insert(level.band_p_extra.end(), part.extra.begin(), part.extra.end());
-    level.band_p_inverse.insert(level.band_p_inverse.end(), part.inverse.begin(),
-                                part.inverse.end());
+    append(level.band_p_extra, part.extra);
+    append(level.band_p_inverse, part.inverse);
     part = {};  // freed once joined (the setup's peak)
   }
   auto momentum_parts = build_in_ranges<MomentumRowsPart<Scalar>>(
@@ -442,7 +446,6 @@ void build_band_rows(Level<Dim, Scalar>& level, const RowBuilder<Dim>& builder,
           }
         }
       });
-  const auto append = [](auto& a, const auto& b) { a.insert(a.end(), b.begin(), b.end()); };
   const std::size_t momentum_rows = reserve_rows(level.band_u, momentum_parts);
   level.band_u_pressure.reserve(momentum_rows);
   level.band_u_pressure_factor.reserve(momentum_rows);

@@ -539,18 +539,15 @@ auto Multigrid<Dim, Scalar>::capture_start() const -> StartState {
   // 256 this took 1.3 s per solve on a virtual machine).
   StartState start;
   start.packed = true;
-  const auto zero = [](const auto& level) {
-    return std::all_of(level.x.begin(), level.x.end(),
-                       [&](const auto& x) { return zero_where_live(x, level.live); });
+  const auto capture = [&](const auto& level, auto& packed) {
+    start.zero = std::all_of(level.x.begin(), level.x.end(),
+                             [&](const auto& x) { return zero_where_live(x, level.live); });
+    for (int f = 0; f <= Dim && !start.zero; ++f) packed[f] = pack_live(level.x[f], level.live);
   };
   if (single_precision()) {
-    start.zero = zero(m_levels.front());
-    for (int f = 0; f <= Dim && !start.zero; ++f)
-      start.single[f] = pack_live(m_levels.front().x[f], m_levels.front().live);
+    capture(m_levels.front(), start.single);
   } else if (m_solution) {
-    start.zero = zero(*m_solution);
-    for (int f = 0; f <= Dim && !start.zero; ++f)
-      start.solution[f] = pack_live(m_solution->x[f], m_solution->live);
+    capture(*m_solution, start.solution);
   } else {
     start.solution = solution_state();
     start.packed = false;
@@ -562,22 +559,20 @@ template <int Dim, typename Scalar>
 void Multigrid<Dim, Scalar>::restore_start(const StartState& start) {
   if (!start.packed) {
     set_solution_state(start.solution);
-  } else if (single_precision()) {
+    return;
+  }
+  const auto restore = [&](auto& level, const auto& packed) {
     for (int f = 0; f <= Dim; ++f) {
-      std::vector<Scalar>& x = m_levels.front().x[f];
       if (start.zero)
-        zero_live(x, m_levels.front().live);
+        zero_live(level.x[f], level.live);
       else
-        unpack_live(start.single[f], x, m_levels.front().live);
+        unpack_live(packed[f], level.x[f], level.live);
     }
+  };
+  if (single_precision()) {
+    restore(m_levels.front(), start.single);
   } else {
-    for (int f = 0; f <= Dim; ++f) {
-      std::vector<double>& x = solution_storage().x[f];
-      if (start.zero)
-        zero_live(x, m_solution->live);
-      else
-        unpack_live(start.solution[f], x, m_solution->live);
-    }
+    restore(solution_storage(), start.solution);
     m_solution_residual_current = false;
   }
 }
