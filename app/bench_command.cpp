@@ -40,6 +40,10 @@
 namespace mgelastic::app {
 namespace {
 
+constexpr const char* kClampCellsHelp =
+    "Thickness of the mixed box's Dirichlet slab in cells (default: n / 8); one that is not a "
+    "multiple of 2^(levels - 1) puts the clamp between coarse faces";
+
 // Cube edge (cells) of --residual-blocks: a few band widths, small next to a limb.
 constexpr int kResidualBlockCells = 8;
 
@@ -48,6 +52,7 @@ grid::BoxSpec box_spec(const BoxBenchOptions& o) {
   spec.cells = o.n;
   spec.poisson_ratio = o.poisson;
   spec.youngs_modulus = o.youngs;
+  spec.clamp_cells = o.clamp_cells;
   if (o.bc == "mixed") {
     spec.boundary = grid::BoxBoundary::MIXED;
   } else if (o.bc == "dirichlet") {
@@ -182,6 +187,11 @@ void add_residual_blocks(nlohmann::json& record, const grid::Multigrid<Dim, Scal
                                                       static_cast<std::size_t>(count)))
     blocks.push_back({{"first_cell", block.first}, {"share", block.share}});
   record["residual_blocks"] = blocks;
+  const auto shares = grid::residual_shares<Dim>(mg.solution_level());
+  record["residual_shares"] = {{"field", shares.field},
+                               {"next_to_dirichlet", shares.next_to_dirichlet},
+                               {"next_to_exterior", shares.next_to_exterior},
+                               {"elsewhere", shares.elsewhere}};
 }
 
 // The fields every V-cycle record shares: seconds per cycle, memory, phases and roofline.
@@ -227,6 +237,8 @@ nlohmann::json convergence(const BoxBenchOptions& o) {
       {"rate_settled", grid::rate_settled(report.residuals, floor)},
       {"solve_seconds", report.seconds},
       {"setup_seconds", setup_seconds}};
+  if (o.bc == "mixed")
+    record["clamp_cells"] = o.clamp_cells > 0 ? o.clamp_cells : std::max(1, o.n / 8);
   add_cycle_fields(record, mg, report, o.triad_gb_per_s);
   add_residual_blocks(record, mg, o.residual_blocks);
   return record;
@@ -347,6 +359,7 @@ void add_box_options(CLI::App* cmd, BoxBenchOptions& o) {
   cmd->add_option("--poisson", o.poisson, "Poisson ratio in [0, 0.5)");
   cmd->add_option("--youngs", o.youngs, "Young's modulus (Pa)");
   cmd->add_option("--bc", o.bc, "Boundary conditions: mixed or dirichlet");
+  cmd->add_option("--clamp-cells", o.clamp_cells, kClampCellsHelp);
   cmd->add_flag("--json", o.json, "Print JSON instead of a table");
   cmd->add_option("--cycle", o.cycle, "Multigrid cycle: V (Algorithm 1, default) or W");
   cmd->add_option("--threads", o.threads, "Worker threads (default: all cores)");
@@ -590,6 +603,14 @@ void print_profile_summary(const nlohmann::json& records, const BoxBenchOptions&
       std::printf(" (%d,%d,%d) %.3f", b["first_cell"][0].get<int>(), b["first_cell"][1].get<int>(),
                   b["first_cell"][2].get<int>(), b["share"].get<double>());
     std::printf("\n");
+    const auto& s = r["residual_shares"];
+    std::printf(
+        "%s: by field u_x %.3f u_y %.3f u_z %.3f p %.3f; next to a Dirichlet cell %.3f, next to "
+        "the exterior %.3f, elsewhere %.3f\n",
+        run.c_str(), s["field"][0].get<double>(), s["field"][1].get<double>(),
+        s["field"][2].get<double>(), s["field"][3].get<double>(),
+        s["next_to_dirichlet"].get<double>(), s["next_to_exterior"].get<double>(),
+        s["elsewhere"].get<double>());
   }
   if (std::any_of(records.begin(), records.end(),
                   [](const auto& r) { return !r.value("rate_settled", true); }))
@@ -917,6 +938,7 @@ void register_bench_commands(CLI::App& app) {
   vcycle->add_option("--sizes", profile_sizes, "Cells per axis (3D); 0 = no box");
   vcycle->add_option("--threads", profile_threads, "Thread counts to compare");
   vcycle->add_option("--poisson", profile_options.poisson, "Poisson ratio");
+  vcycle->add_option("--clamp-cells", profile_options.clamp_cells, kClampCellsHelp);
   vcycle->add_option("--precision", profile_options.precision,
                      "float (mixed: solution in double), single (float only) or double");
   vcycle->add_option("--cycles", profile_options.cycles, "V-cycles per run");

@@ -11,6 +11,7 @@ struct BoxBenchOptions {
   double poisson = 0.3;
   double youngs = 1e5;
   std::string bc = "mixed";
+  int clamp_cells = 0;  // mixed box: Dirichlet slab thickness (grid::BoxSpec; 0 = n / 8)
   int cycles = 12;
   std::string precision = "double";
   double tolerance = 1e-6;

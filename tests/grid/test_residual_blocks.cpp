@@ -53,5 +53,36 @@ TEST(ResidualBlocks, ZeroResidualHasNoBlocks) {
   EXPECT_TRUE(residual_blocks<3>(level, 4, 5).empty());
 }
 
+// Loads on three chosen variables (x = 0, so the residual is b): one face next to the clamp, one
+// pressure next to the traction surface, one deep inside. The shares follow the loads' squares,
+// per field and per place.
+TEST(ResidualShares, SplitTheResidualByFieldAndPlace) {
+  Level<3, double> level = zero_mixed_box(16);  // Dirichlet slab: stored x 1 .. 2
+  const std::ptrdiff_t by_clamp = level.lattice.index(IVec<3>{4, 8, 8});     // u_x face, cells 3|4
+  const std::ptrdiff_t by_surface = level.lattice.index(IVec<3>{9, 16, 8});  // top cell layer
+  const std::ptrdiff_t inside = level.lattice.index(IVec<3>{9, 8, 8});
+  ASSERT_EQ(level.kind(0, by_clamp), VarKind::INTERIOR);
+  ASSERT_EQ(level.kind(3, by_surface), VarKind::INTERIOR);
+  ASSERT_EQ(level.kind(1, inside), VarKind::INTERIOR);
+  level.b[0][by_clamp] = 1.0;
+  level.b[3][by_surface] = 2.0;
+  level.b[1][inside] = 3.0;
+
+  const ResidualShares<3> shares = residual_shares<3>(level);
+  const double total = 1.0 + 4.0 + 9.0;
+  EXPECT_NEAR(shares.field[0], 1.0 / total, 1e-12);
+  EXPECT_NEAR(shares.field[1], 9.0 / total, 1e-12);
+  EXPECT_EQ(shares.field[2], 0.0);
+  EXPECT_NEAR(shares.field[3], 4.0 / total, 1e-12);
+  EXPECT_NEAR(shares.next_to_dirichlet, 1.0 / total, 1e-12);
+  EXPECT_NEAR(shares.next_to_exterior, 4.0 / total, 1e-12);
+  EXPECT_NEAR(shares.elsewhere, 9.0 / total, 1e-12);
+}
+
+TEST(ResidualShares, ZeroResidualHasZeroShares) {
+  const ResidualShares<3> shares = residual_shares<3>(zero_mixed_box(8));
+  EXPECT_EQ(shares.next_to_dirichlet + shares.next_to_exterior + shares.elsewhere, 0.0);
+}
+
 }  // namespace
 }  // namespace mgelastic::grid

@@ -13,7 +13,12 @@ ElasticityProblem<Dim> make_box_problem(const BoxSpec& spec) {
   problem.lattice = Lattice<Dim>(IVec<Dim>::Constant(spec.cells), spec.size / spec.cells);
   problem.material = {spec.youngs_modulus, spec.poisson_ratio};
   problem.cells.assign(problem.lattice.size(), CellType::EXTERIOR);
-  const int slab = std::max(1, spec.cells / 8);
+  if (spec.clamp_cells < 0 || spec.clamp_cells >= spec.cells)
+    throw Error("must be between 1 and " + std::to_string(spec.cells - 1) +
+                    " (the box's cells minus one), or 0 for cells / 8 (got " +
+                    std::to_string(spec.clamp_cells) + ")",
+                {.pointer = "--clamp-cells"});
+  const int slab = spec.clamp_cells > 0 ? spec.clamp_cells : std::max(1, spec.cells / 8);
   for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(problem.lattice.size()); ++k) {
     const IVec<Dim> s = problem.lattice.coords(k);
     if (!problem.lattice.is_real(s)) continue;

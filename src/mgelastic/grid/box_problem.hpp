@@ -1,7 +1,8 @@
 #pragma once
 // The synthetic elastic box of the paper's benchmarks (Sec. 9.1, Figs. 10-11, 22-23):
 // an N^d box of cells with
-//   MIXED:     the slab x < N/8 of Dirichlet (fixed) cells, every other boundary traction-free;
+//   MIXED:     a slab of Dirichlet (fixed) cells at x = 0, N/8 cells thick unless clamp_cells says
+//              otherwise, every other boundary traction-free;
 //   DIRICHLET: a layer of Dirichlet cells all around the box,
 // loaded by a uniform gravity-like body force.
 #include "mgelastic/grid/problem.hpp"
@@ -17,6 +18,10 @@ struct BoxSpec {
   double size = 1.0;            // m, edge length of the box
   double body_force = 1e3;      // N/m^3, along -y
   BoxBoundary boundary = BoxBoundary::MIXED;
+  // MIXED: thickness of the Dirichlet slab in cells, 1 .. cells - 1; 0 = cells / 8 (the paper's).
+  // A thickness that is not a multiple of 2^(levels - 1) puts the finest clamp between coarse
+  // faces (the "misaligned clamp" of docs/grid-engine.md), as on most embedded bodies.
+  int clamp_cells = 0;
 };
 
 template <int Dim>

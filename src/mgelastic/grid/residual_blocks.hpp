@@ -25,4 +25,19 @@ template <int Dim>
 std::vector<ResidualBlock<Dim>> residual_blocks(const Level<Dim, double>& level, int block,
                                                 std::size_t count);
 
+// The same sum of squared residuals split by field (u_0 .. u_{Dim-1}, p) and by where the row's
+// variable sits: next to a Dirichlet cell (one of the variable's cells or a face neighbor of
+// one is Dirichlet), else next to an exterior cell (the traction surface), else elsewhere.
+// Each as its share of the total; all zero for a zero residual. A slow mode next to a clamp
+// shows as next_to_dirichlet near 1 (the mixed box with a misaligned clamp:
+// docs/notes/2026-12-06-misaligned-clamps.md).
+template <int Dim>
+struct ResidualShares {
+  std::array<double, Dim + 1> field{};
+  double next_to_dirichlet = 0, next_to_exterior = 0, elsewhere = 0;
+};
+
+template <int Dim>
+ResidualShares<Dim> residual_shares(const Level<Dim, double>& level);
+
 }  // namespace mgelastic::grid
