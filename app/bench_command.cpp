@@ -100,6 +100,10 @@ grid::MultigridOptions multigrid_options(const BoxBenchOptions& o) {
   options.coarse_fill_weights = !o.no_coarse_fill_weights;
   options.repair_coarse_cells = !o.no_repair_coarse_cells;
   options.misaligned_dirichlet_depth = !o.no_misaligned_clamp_depth;
+  options.coarse_dirichlet = o.coarse_dirichlet == "every_child"
+                                 ? grid::CoarseDirichletRule::EVERY_CHILD
+                                 : grid::CoarseDirichletRule::ANY_CHILD;
+  options.coarsest_operator = grid::coarsest_operator(o.coarsest_operator, "--coarsest-operator");
   return options;
 }
 
@@ -956,6 +960,18 @@ void register_bench_commands(CLI::App& app) {
                    "in 3D) or band_wide (sweep after sweep over the whole band, the paper's)")
       ->check(CLI::IsMember({"auto", "block_local", "band_wide"}));
   vcycle->add_option("--max-levels", profile_options.max_levels, "Levels at most (0 = no limit)");
+  vcycle
+      ->add_option("--coarse-dirichlet", profile_options.coarse_dirichlet,
+                   "Coarse cells that are Dirichlet: any_child (the paper's) or every_child (a "
+                   "clamp top between coarse faces stays free; pays only with a Galerkin coarse "
+                   "operator)")
+      ->check(CLI::IsMember({"any_child", "every_child"}));
+  vcycle
+      ->add_option("--coarsest-operator", profile_options.coarsest_operator,
+                   "Coarsest level's operator: rediscretized, galerkin (P^T A P of the level "
+                   "above, probed: small problems only) or galerkin_band (only its band rows); "
+                   "with --max-levels 2 a two-level study of the coarse operator")
+      ->check(CLI::IsMember({"rediscretized", "galerkin", "galerkin_band"}));
   vcycle->add_option("--residual-blocks", profile_options.residual_blocks,
                      "Print the N cubes of 8^3 cells holding most of the residual after the last "
                      "cycle (where a slow mode sits)");

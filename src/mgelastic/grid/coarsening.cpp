@@ -14,16 +14,20 @@ Lattice<Dim> coarsen(const Lattice<Dim>& fine) {
 }
 
 template <int Dim>
-std::vector<CellType> coarsen_cells(const Lattice<Dim>& fine, const std::vector<CellType>& cells) {
+std::vector<CellType> coarsen_cells(const Lattice<Dim>& fine, const std::vector<CellType>& cells,
+                                    CoarseDirichletRule rule) {
   const Lattice<Dim> coarse = coarsen(fine);
   std::vector<CellType> result(coarse.size(), CellType::EXTERIOR);
+  // The type that wins over the other non-exterior one.
+  const CellType dominant =
+      rule == CoarseDirichletRule::ANY_CHILD ? CellType::DIRICHLET : CellType::INTERIOR;
   for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(fine.size()); ++k) {
     const IVec<Dim> s = fine.coords(k);
     if (!fine.is_real(s) || cells[k] == CellType::EXTERIOR) continue;
     IVec<Dim> cs;
     for (int a = 0; a < Dim; ++a) cs[a] = (s[a] - 1) / 2 + 1;
     CellType& parent = result[coarse.index(cs)];
-    if (cells[k] == CellType::DIRICHLET || parent == CellType::EXTERIOR) parent = cells[k];
+    if (cells[k] == dominant || parent == CellType::EXTERIOR) parent = cells[k];
   }
   return result;
 }
@@ -109,7 +113,9 @@ template int repair_coarse_cells<2>(const Lattice<2>&, std::vector<CellType>&);
 template int repair_coarse_cells<3>(const Lattice<3>&, std::vector<CellType>&);
 template Lattice<2> coarsen<2>(const Lattice<2>&);
 template Lattice<3> coarsen<3>(const Lattice<3>&);
-template std::vector<CellType> coarsen_cells<2>(const Lattice<2>&, const std::vector<CellType>&);
-template std::vector<CellType> coarsen_cells<3>(const Lattice<3>&, const std::vector<CellType>&);
+template std::vector<CellType> coarsen_cells<2>(const Lattice<2>&, const std::vector<CellType>&,
+                                                CoarseDirichletRule);
+template std::vector<CellType> coarsen_cells<3>(const Lattice<3>&, const std::vector<CellType>&,
+                                                CoarseDirichletRule);
 
 }  // namespace mgelastic::grid

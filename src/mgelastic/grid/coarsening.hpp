@@ -19,8 +19,17 @@ namespace mgelastic::grid {
 template <int Dim>
 Lattice<Dim> coarsen(const Lattice<Dim>& fine);
 
+// ANY_CHILD: the paper's rule above. EVERY_CHILD: a coarse cell is Dirichlet only when every
+// non-exterior child is, so a clamp top between coarse faces leaves the coarse cell free and
+// the coarse level can correct the free fine cells inside it; the coarse problem is then softer
+// than the fine one there, which only a Galerkin coarse operator makes up for
+// (galerkin_coarsest.hpp; with the rediscretized operator the box at 63 cells diverges,
+// docs/notes/2026-12-06-misaligned-clamps.md).
+enum class CoarseDirichletRule { ANY_CHILD, EVERY_CHILD };
+
 template <int Dim>
-std::vector<CellType> coarsen_cells(const Lattice<Dim>& fine, const std::vector<CellType>& cells);
+std::vector<CellType> coarsen_cells(const Lattice<Dim>& fine, const std::vector<CellType>& cells,
+                                    CoarseDirichletRule rule = CoarseDirichletRule::ANY_CHILD);
 
 // Where a coarse level's Dirichlet cells meet the finest level's Dirichlet wall, per cell and
 // face (entry 2 Dim cell + 2 a + side; side 0 = lower, 1 = upper face along e_a; `factor` =

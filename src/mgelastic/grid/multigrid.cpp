@@ -199,7 +199,8 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
   std::vector<std::vector<double>> weights{{}};
   while (may_coarsen(lattices.back(), cells.back(), lattices.size(), options)) {
     Lattice<Dim> coarse = coarsen(lattices.back());
-    std::vector<CellType> coarse_cells = coarsen_cells(lattices.back(), cells.back());
+    std::vector<CellType> coarse_cells =
+        coarsen_cells(lattices.back(), cells.back(), options.coarse_dirichlet);
     if (options.repair_coarse_cells) repair_coarse_cells(coarse, coarse_cells);
     std::vector<double> coarse_weights;
     if (options.coarse_fill_weights) {
@@ -240,6 +241,10 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
   // without one; allocated where a caller asks for a residual array, update_residual).
   for (std::size_t l = 0; l + 1 < m_levels.size(); ++l)
     m_band_row_planes.push_back(band_row_planes(m_levels[l]));
+  if (m_options.coarsest_operator != CoarsestOperator::REDISCRETIZED && m_levels.size() > 1)
+    m_galerkin = std::make_unique<GalerkinCoarseSolver<Dim, Scalar>>(
+        m_levels[m_levels.size() - 2], m_levels.back(),
+        m_options.coarsest_operator == CoarsestOperator::GALERKIN_BAND);
   if (mixed_precision()) {
     m_solution = std::make_unique<Level<Dim, double>>(build_level<Dim, double>(
         lattices[0], cells[0], problem.material, problem.boundary_stress,
@@ -435,7 +440,10 @@ void Multigrid<Dim, Scalar>::correct(int l) {
   const int coarsest = levels() - 1;
   Timer timer;
   if (l == coarsest) {
-    m_coarse->solve(m_levels[coarsest]);
+    if (m_galerkin)
+      m_galerkin->solve(m_levels[coarsest]);
+    else
+      m_coarse->solve(m_levels[coarsest]);
     m_phases.coarse_solve += timer.seconds();
     observe(l, CyclePhase::COARSE_SOLVE);
     return;

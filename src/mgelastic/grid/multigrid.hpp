@@ -11,6 +11,8 @@
 
 #include "mgelastic/grid/boundary_smoother.hpp"
 #include "mgelastic/grid/coarse_solver.hpp"
+#include "mgelastic/grid/coarsening.hpp"
+#include "mgelastic/grid/galerkin_coarsest.hpp"
 #include "mgelastic/grid/level.hpp"
 #include "mgelastic/grid/problem.hpp"
 #include "mgelastic/grid/residual_restriction.hpp"
@@ -63,6 +65,13 @@ struct MultigridOptions {
   // (docs/notes/2026-12-04-coarse-clamp.md).
   bool misaligned_dirichlet_depth = true;
   int max_levels = 0;  // 0 = no limit
+  // Which coarse cells are Dirichlet (coarsening.hpp). EVERY_CHILD pays only with a Galerkin
+  // coarse operator.
+  CoarseDirichletRule coarse_dirichlet = CoarseDirichletRule::ANY_CHILD;
+  // Diagnostics for two-level studies (galerkin_coarsest.hpp): the coarsest level solved with
+  // the Galerkin product of the level above instead of its rediscretized rows. Builds by one
+  // probe per coarse unknown: small problems only.
+  CoarsestOperator coarsest_operator = CoarsestOperator::REDISCRETIZED;
   // Float levels only. true: mixed precision, the solution and its residual in double on a
   // copy of the finest level (residuals far below float round-off). false: the paper's single
   // precision, the float finest level holds the solution itself: about half the memory
@@ -252,6 +261,8 @@ class Multigrid {
   // on request (checkpoints), not kept up to date.
   mutable SolutionState m_single_state;
   std::unique_ptr<CoarseSolver<Dim, Scalar>> m_coarse;
+  std::unique_ptr<GalerkinCoarseSolver<Dim, Scalar>>
+      m_galerkin;  // coarsest_operator != REDISCRETIZED
   MultigridOptions m_options;
   int m_boundary_sweeps = 2;
   PhaseSeconds m_phases;
