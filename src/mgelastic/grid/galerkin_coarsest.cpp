@@ -8,6 +8,7 @@
 
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/grid/boundary_smoother.hpp"
+#include "mgelastic/grid/live_chunks.hpp"
 #include "mgelastic/grid/residual.hpp"
 #include "mgelastic/grid/transfer.hpp"
 
@@ -37,8 +38,8 @@ std::vector<Unknown> interior_unknowns(const Level<Dim, Scalar>& level) {
 template <int Dim, typename Scalar>
 void zero_fields(Level<Dim, Scalar>& level) {
   for (int f = 0; f <= Dim; ++f) {
-    std::fill(level.x[f].begin(), level.x[f].end(), Scalar(0));
-    std::fill(level.b[f].begin(), level.b[f].end(), Scalar(0));
+    zero_live(level.x[f], level.live);
+    zero_live(level.b[f], level.live);
   }
 }
 
@@ -144,7 +145,7 @@ void GalerkinCoarseSolver<Dim, Scalar>::solve(Level<Dim, Scalar>& coarse) const 
     rhs[static_cast<Eigen::Index>(i)] =
         (1 << Dim) * static_cast<double>(coarse.b[unknowns[i].first][unknowns[i].second]);
   const Eigen::VectorXd e = m_impl->lu.solve(rhs);
-  for (auto& field : coarse.x) std::fill(field.begin(), field.end(), Scalar(0));
+  for (auto& field : coarse.x) zero_live(field, coarse.live);
   for (std::size_t i = 0; i < unknowns.size(); ++i)
     coarse.x[unknowns[i].first][unknowns[i].second] =
         static_cast<Scalar>(e[static_cast<Eigen::Index>(i)]);
