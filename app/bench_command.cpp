@@ -241,8 +241,7 @@ nlohmann::json convergence(const BoxBenchOptions& o) {
       {"rate_settled", grid::rate_settled(report.residuals, floor)},
       {"solve_seconds", report.seconds},
       {"setup_seconds", setup_seconds}};
-  if (o.bc == "mixed")
-    record["clamp_cells"] = o.clamp_cells > 0 ? o.clamp_cells : std::max(1, o.n / 8);
+  if (o.bc == "mixed") record["clamp_cells"] = grid::clamp_thickness(box_spec(o));
   add_cycle_fields(record, mg, report, o.triad_gb_per_s);
   add_residual_blocks(record, mg, o.residual_blocks);
   return record;

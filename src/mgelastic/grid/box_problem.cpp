@@ -1,8 +1,14 @@
 #include "mgelastic/grid/box_problem.hpp"
 
+#include <algorithm>
+
 #include "mgelastic/core/error.hpp"
 
 namespace mgelastic::grid {
+
+int clamp_thickness(const BoxSpec& spec) {
+  return spec.clamp_cells > 0 ? spec.clamp_cells : std::max(1, spec.cells / 8);
+}
 
 template <int Dim>
 ElasticityProblem<Dim> make_box_problem(const BoxSpec& spec) {
@@ -18,7 +24,7 @@ ElasticityProblem<Dim> make_box_problem(const BoxSpec& spec) {
                     " (the box's cells minus one), or 0 for cells / 8 (got " +
                     std::to_string(spec.clamp_cells) + ")",
                 {.pointer = "--clamp-cells"});
-  const int slab = spec.clamp_cells > 0 ? spec.clamp_cells : std::max(1, spec.cells / 8);
+  const int slab = clamp_thickness(spec);
   for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(problem.lattice.size()); ++k) {
     const IVec<Dim> s = problem.lattice.coords(k);
     if (!problem.lattice.is_real(s)) continue;

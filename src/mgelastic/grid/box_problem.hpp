@@ -24,6 +24,9 @@ struct BoxSpec {
   int clamp_cells = 0;
 };
 
+// The MIXED slab's thickness in cells: clamp_cells, or cells / 8 (at least 1) where it is 0.
+int clamp_thickness(const BoxSpec& spec);
+
 template <int Dim>
 ElasticityProblem<Dim> make_box_problem(const BoxSpec& spec);
 

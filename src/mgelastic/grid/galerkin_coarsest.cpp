@@ -35,12 +35,10 @@ std::vector<Unknown> interior_unknowns(const Level<Dim, Scalar>& level) {
   return unknowns;
 }
 
-template <int Dim, typename Scalar>
-void zero_fields(Level<Dim, Scalar>& level) {
-  for (int f = 0; f <= Dim; ++f) {
-    zero_live(level.x[f], level.live);
-    zero_live(level.b[f], level.live);
-  }
+// Zeroes x or b of a level (Dim + 1 fields) where they hold memory (live_chunks.hpp).
+template <typename Fields>
+void zero(Fields& fields, const LiveChunks& live) {
+  for (auto& field : fields) zero_live(field, live);
 }
 
 // Columns of M such that (M v)_i = -r_i at `rows` for a residual r of x = the probe, b = 0.
@@ -74,23 +72,28 @@ GalerkinCoarseSolver<Dim, Scalar>::GalerkinCoarseSolver(Level<Dim, Scalar>& fine
   const int nf = static_cast<int>(fine_unknowns.size());
   ensure_residual_storage(fine);
   ensure_residual_storage(coarse);
-  // Per coarse unknown j: P e_j (the fine x after the prolongation) and A_f P e_j.
-  std::vector<Eigen::Triplet<double>> p_entries, ap_entries, own_entries;
-  std::vector<char> band(unknowns.size(), 1);
+  // Which coarse rows are Galerkin rows; the others keep the level's own rows.
+  std::vector<char> galerkin_row(unknowns.size(), 1), own_row(unknowns.size(), 0);
   if (band_only)
-    for (std::size_t i = 0; i < unknowns.size(); ++i)
-      band[i] = coarse.relaxation(unknowns[i].first, unknowns[i].second) == Relaxation::BAND;
+    for (std::size_t i = 0; i < unknowns.size(); ++i) {
+      galerkin_row[i] =
+          coarse.relaxation(unknowns[i].first, unknowns[i].second) == Relaxation::BAND;
+      own_row[i] = !galerkin_row[i];
+    }
+  // Per coarse unknown j: P e_j (the fine x after the prolongation) and A_f P e_j. The residuals
+  // read b = 0; the probes write only x.
+  std::vector<Eigen::Triplet<double>> p_entries, ap_entries, own_entries;
+  zero(fine.b, fine.live);
+  zero(coarse.b, coarse.live);
   for (int j = 0; j < n; ++j) {
-    zero_fields(fine);
-    zero_fields(coarse);
+    zero(fine.x, fine.live);
+    zero(coarse.x, coarse.live);
     coarse.x[unknowns[j].first][unknowns[j].second] = Scalar(1);
     back_substitute_traction(coarse);
     if (band_only) {
-      // The coarse level's own rows off the band, at the Galerkin rows' scale (2^d).
+      // The coarse level's own rows, at the Galerkin rows' scale (2^d).
       update_residual(coarse);
-      std::vector<char> off_band(band.size());
-      for (std::size_t i = 0; i < band.size(); ++i) off_band[i] = !band[i];
-      append_column(coarse, unknowns, j, double(1 << Dim), own_entries, &off_band);
+      append_column(coarse, unknowns, j, double(1 << Dim), own_entries, &own_row);
     }
     prolongate_correction(coarse, fine);
     back_substitute_traction(fine);
@@ -108,7 +111,7 @@ GalerkinCoarseSolver<Dim, Scalar>::GalerkinCoarseSolver(Level<Dim, Scalar>& fine
   std::vector<Eigen::Triplet<double>> entries = std::move(own_entries);
   for (int c = 0; c < galerkin.outerSize(); ++c)
     for (Eigen::SparseMatrix<double>::InnerIterator it(galerkin, c); it; ++it)
-      if (band[static_cast<std::size_t>(it.row())])
+      if (galerkin_row[static_cast<std::size_t>(it.row())])
         entries.emplace_back(static_cast<int>(it.row()), c, it.value());
   // An unknown no fine variable sees (a coarse variable whose prolongation lands only on
   // Dirichlet or traction variables) keeps a zero correction.
@@ -119,8 +122,8 @@ GalerkinCoarseSolver<Dim, Scalar>::GalerkinCoarseSolver(Level<Dim, Scalar>& fine
   Eigen::SparseMatrix<double> a(n, n);
   a.setFromTriplets(entries.begin(), entries.end());
   m_impl->lu.compute(a);
-  zero_fields(fine);
-  zero_fields(coarse);
+  zero(fine.x, fine.live);
+  zero(coarse.x, coarse.live);
   for (auto* level : {&fine, &coarse})
     for (auto& field : level->r) std::vector<Scalar>().swap(field);
   if (m_impl->lu.info() != Eigen::Success)
@@ -138,8 +141,8 @@ GalerkinCoarseSolver<Dim, Scalar>& GalerkinCoarseSolver<Dim, Scalar>::operator=(
 template <int Dim, typename Scalar>
 void GalerkinCoarseSolver<Dim, Scalar>::solve(Level<Dim, Scalar>& coarse) const {
   const auto& unknowns = m_impl->unknowns;
-  // The restriction's rows are R A with R = B2 x B1 x B1, the product's P^T A / 2^d (the scale
-  // of the rows above): the same 2^d.
+  // The matrix holds P^T A P, 2^d times the coarse rows' scale (P^T = 2^d R in the interior),
+  // so the restricted right-hand side is scaled by 2^d too.
   Eigen::VectorXd rhs(static_cast<Eigen::Index>(unknowns.size()));
   for (std::size_t i = 0; i < unknowns.size(); ++i)
     rhs[static_cast<Eigen::Index>(i)] =
@@ -150,11 +153,6 @@ void GalerkinCoarseSolver<Dim, Scalar>::solve(Level<Dim, Scalar>& coarse) const 
     coarse.x[unknowns[i].first][unknowns[i].second] =
         static_cast<Scalar>(e[static_cast<Eigen::Index>(i)]);
   back_substitute_traction(coarse);
-}
-
-template <int Dim, typename Scalar>
-std::size_t GalerkinCoarseSolver<Dim, Scalar>::unknowns() const {
-  return m_impl->unknowns.size();
 }
 
 template class GalerkinCoarseSolver<2, float>;

@@ -1,7 +1,7 @@
 #pragma once
 // A diagnostic coarse operator: the coarsest level's rows replaced by the Galerkin product of
 // the level above,
-//   A_c = P^T A_f P / 2^d,
+//   A_c = P^T A_f P / 2^d (stored as P^T A_f P, the right-hand side scaled to match),
 // with P the V-cycle's own prolongation (prolongate_correction after the coarse traction
 // back-substitution) and A_f the fine level's residual operator (band rows, stencils, traction
 // rules), both applied to unit vectors: one probe per coarse unknown, so small problems only.
@@ -37,7 +37,6 @@ class GalerkinCoarseSolver {
 
   // Solves with coarse.b and overwrites coarse.x (traction variables back-substituted).
   void solve(Level<Dim, Scalar>& coarse) const;
-  std::size_t unknowns() const;
 
  private:
   struct Impl;
