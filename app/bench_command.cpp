@@ -968,9 +968,10 @@ void register_bench_commands(CLI::App& app) {
   vcycle
       ->add_option("--coarsest-operator", profile_options.coarsest_operator,
                    "Coarsest level's operator: rediscretized, galerkin (P^T A P of the level "
-                   "above, probed: small problems only) or galerkin_band (only its band rows); "
-                   "with --max-levels 2 a two-level study of the coarse operator")
-      ->check(CLI::IsMember({"rediscretized", "galerkin", "galerkin_band"}));
+                   "above, probed: small problems only), galerkin_band (only its band rows) or "
+                   "local_galerkin_band (the band rows' displacement terms, computed locally, "
+                   "LU); with --max-levels 2 a two-level study of the coarse operator")
+      ->check(CLI::IsMember({"rediscretized", "galerkin", "galerkin_band", "local_galerkin_band"}));
   vcycle->add_option("--residual-blocks", profile_options.residual_blocks,
                      "Print the N cubes of 8^3 cells holding most of the residual after the last "
                      "cycle (where a slow mode sits)");

@@ -1,6 +1,7 @@
 #include "mgelastic/grid/coarse_solver.hpp"
 
 #include <Eigen/CholmodSupport>
+#include <Eigen/SparseLU>
 
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/grid/boundary_smoother.hpp"
@@ -24,6 +25,10 @@ template <int Dim, typename Scalar>
 struct CoarseSolver<Dim, Scalar>::Impl {
   NonAugmentedSystem<Dim> system;
   CoarseCholesky cholesky;
+  // Galerkin band rows (galerkin_band_rows.hpp) next to stencil rows make the matrix
+  // unsymmetric (its symmetric part diverges in a V-cycle): LU instead.
+  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
+  bool use_lu = false;
 };
 
 template <int Dim, typename Scalar>
@@ -35,6 +40,16 @@ CoarseSolver<Dim, Scalar>::CoarseSolver(const Level<Dim, Scalar>& level)
     throw Error("the coarsest grid level has no interior variable", {.pointer = "grid"});
   // Quiet: a failed factorization is reported by the exception below (or handled by the caller).
   m_impl->cholesky.cholmod().print = 0;
+  if (level.galerkin_band_rows) {
+    m_impl->use_lu = true;
+    m_impl->lu.compute(m_impl->system.matrix);
+    if (m_impl->lu.info() != Eigen::Success)
+      throw SingularCoarseLevel(
+          "the coarsest-level system with Galerkin band rows is singular (is every part of the "
+          "body held by a Dirichlet region?)",
+          {.pointer = "grid"});
+    return;
+  }
   m_impl->cholesky.compute(m_impl->system.matrix);
   // A body part that can move without strain on this level (not held, or a coarse sheet one cell
   // thick whose shear is traction-free) makes the matrix singular; rounding may still let the
@@ -57,13 +72,17 @@ CoarseSolver<Dim, Scalar>& CoarseSolver<Dim, Scalar>::operator=(CoarseSolver&&) 
 template <int Dim, typename Scalar>
 void CoarseSolver<Dim, Scalar>::solve(Level<Dim, Scalar>& level) const {
   const Eigen::VectorXd rhs = m_impl->system.right_hand_side(level);
-  const Eigen::VectorXd u = m_impl->cholesky.solve(rhs);
+  const Eigen::VectorXd u = m_impl->use_lu ? Eigen::VectorXd(m_impl->lu.solve(rhs))
+                                           : Eigen::VectorXd(m_impl->cholesky.solve(rhs));
   m_impl->system.scatter(u, level);
   back_substitute_traction(level);
 }
 
 template <int Dim, typename Scalar>
 std::size_t CoarseSolver<Dim, Scalar>::factor_bytes() const {
+  if (m_impl->use_lu)
+    return static_cast<std::size_t>(m_impl->lu.nnzL() + m_impl->lu.nnzU()) *
+           (sizeof(double) + sizeof(int));
   return m_impl->cholesky.factor_bytes();
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <unordered_map>
 
 #include <omp.h>
@@ -819,6 +820,18 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
 }
 
 template <int Dim, typename Scalar>
+void rebuild_band_sweep_data(Level<Dim, Scalar>& level) {
+  const auto release = [](auto&... v) { ((v = std::remove_cvref_t<decltype(v)>()), ...); };
+  release(level.band_blocks, level.band_block_inverse, level.band_block_inverse_id,
+          level.band_point_rows, level.band_schedule);
+  build_band_kernel(level);
+  build_band_blocks(level);
+  build_band_schedule(level);
+  build_band_runs(level);
+  shrink_band_arrays(level);
+}
+
+template <int Dim, typename Scalar>
 void set_dirichlet_values(Level<Dim, Scalar>& level,
                           const std::function<Vec<Dim>(const Vec<Dim>&)>& displacement) {
   if (!displacement) return;
@@ -845,6 +858,7 @@ std::size_t Level<Dim, Scalar>::zero_load_bytes(int field) const {
 
 #define MGELASTIC_INSTANTIATE(D, S)                                                        \
   template void release_zero_load_pages<D, S>(Level<D, S>&);                               \
+  template void rebuild_band_sweep_data<D, S>(Level<D, S>&);                               \
   template struct Level<D, S>;                                                             \
   template Level<D, S> build_level<D, S>(                                                  \
       const Lattice<D>&, std::vector<CellType>, const Material&, const BoundaryStress<D>&, \

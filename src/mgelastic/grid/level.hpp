@@ -226,6 +226,9 @@ struct Level {
     return x[global_index / size()][global_index % size()];
   }
   std::size_t interior_unknowns() const;  // interior u and p variables
+  // Whether band_u's displacement terms are Galerkin rows (galerkin_band_rows.hpp) instead of
+  // RowBuilder's: the coarsest solve then assembles them from band_u.
+  bool galerkin_band_rows = false;
   // Memory held by the level's arrays, by group (capacity, as vector_bytes), and in total.
   std::vector<ByteShare> byte_breakdown() const;
   std::size_t bytes() const;
@@ -250,6 +253,12 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
                                double dirichlet_zero_depth = 0.0,
                                std::vector<std::uint8_t> dirichlet_wall_layers = {},
                                bool release_dead_pages = true, LevelUse use = LevelUse::CYCLE);
+
+// Rebuilds what the band sweeps derive from band_u, its Schur diagonal and pressure factors (the
+// compact kernel, eliminated-cell blocks and their inverses, the colored schedule, the runs)
+// after the rows changed, e.g. to Galerkin rows (galerkin_band_rows.hpp). Needs the CSR rows.
+template <int Dim, typename Scalar>
+void rebuild_band_sweep_data(Level<Dim, Scalar>& level);
 
 // Writes prescribed displacements into every Dirichlet variable of the level.
 template <int Dim, typename Scalar>

@@ -12,6 +12,7 @@
 #include "mgelastic/grid/coarsening.hpp"
 #include "mgelastic/grid/distributive_smoother.hpp"
 #include "mgelastic/grid/fill_weights.hpp"
+#include "mgelastic/grid/galerkin_band_rows.hpp"
 #include "mgelastic/grid/load_update.hpp"
 #include "mgelastic/grid/problem_validation.hpp"
 #include "mgelastic/grid/residual.hpp"
@@ -223,6 +224,8 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
   // one level finer, down to a direct solve of the finest level itself.
   while (true) {
     build_levels(problem, lattices, cells, weights);
+    if (m_options.coarsest_operator == CoarsestOperator::LOCAL_GALERKIN_BAND && m_levels.size() > 1)
+      install_galerkin_band_rows(m_levels[m_levels.size() - 2], m_levels.back());
     try {
       m_coarse = std::make_unique<CoarseSolver<Dim, Scalar>>(m_levels.back());
       for (Level<Dim, Scalar>& level : m_levels) {
@@ -241,7 +244,9 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
   // without one; allocated where a caller asks for a residual array, update_residual).
   for (std::size_t l = 0; l + 1 < m_levels.size(); ++l)
     m_band_row_planes.push_back(band_row_planes(m_levels[l]));
-  if (m_options.coarsest_operator != CoarsestOperator::REDISCRETIZED && m_levels.size() > 1)
+  if ((m_options.coarsest_operator == CoarsestOperator::GALERKIN ||
+       m_options.coarsest_operator == CoarsestOperator::GALERKIN_BAND) &&
+      m_levels.size() > 1)
     m_galerkin = std::make_unique<GalerkinCoarseSolver<Dim, Scalar>>(
         m_levels[m_levels.size() - 2], m_levels.back(),
         m_options.coarsest_operator == CoarsestOperator::GALERKIN_BAND);

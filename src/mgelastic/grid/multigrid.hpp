@@ -68,9 +68,12 @@ struct MultigridOptions {
   // Which coarse cells are Dirichlet (coarsening.hpp). EVERY_CHILD pays only with a Galerkin
   // coarse operator.
   CoarseDirichletRule coarse_dirichlet = CoarseDirichletRule::ANY_CHILD;
-  // Diagnostics for two-level studies (galerkin_coarsest.hpp): the coarsest level solved with
-  // the Galerkin product of the level above instead of its rediscretized rows. Builds by one
-  // probe per coarse unknown: small problems only.
+  // The coarsest level's operator (galerkin_coarsest.hpp). GALERKIN and GALERKIN_BAND are
+  // diagnostics for two-level studies (one probe per coarse unknown: small problems only);
+  // LOCAL_GALERKIN_BAND gives the coarsest band rows Galerkin displacement terms computed
+  // locally (galerkin_band_rows.hpp), factored by LU. Not on smoothed levels: there the
+  // distributive sweeps and Galerkin band rows together diverge
+  // (docs/notes/2026-12-06-galerkin-band-rows.md).
   CoarsestOperator coarsest_operator = CoarsestOperator::REDISCRETIZED;
   // Float levels only. true: mixed precision, the solution and its residual in double on a
   // copy of the finest level (residuals far below float round-off). false: the paper's single

@@ -1,5 +1,7 @@
 #include "mgelastic/grid/nonaugmented_system.hpp"
 
+#include <unordered_map>
+
 #include "mgelastic/grid/explicit_rows.hpp"
 
 namespace mgelastic::grid {
@@ -22,6 +24,18 @@ void number_unknowns(const Level<Dim, Scalar>& level, NonAugmentedSystem<Dim>& s
   }
 }
 
+// Band row m of the level as an explicit row (its stored terms and constant).
+template <int Dim, typename Scalar>
+ExplicitRow band_row_terms(const Level<Dim, Scalar>& level, std::uint32_t m) {
+  const auto& rows = level.band_u;
+  ExplicitRow row;
+  row.constant = static_cast<double>(rows.constant[m]);
+  for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e)
+    row.terms.push_back({level.global(rows.column_field[e], rows.column_index[e]),
+                         static_cast<double>(rows.value[e])});
+  return row;
+}
+
 }  // namespace
 
 template <int Dim, typename Scalar>
@@ -38,13 +52,20 @@ NonAugmentedSystem<Dim> assemble_nonaugmented(const Level<Dim, Scalar>& level,
                                 level.dirichlet_zero_depth, &level.dirichlet_wall_layers);
   const auto n = level.size();
   Triplets a, g;
+  // Galerkin band rows (galerkin_band_rows.hpp) are read from band_u, the rest from the builder.
+  std::unordered_map<std::uint32_t, std::uint32_t> band_row;
+  if (level.galerkin_band_rows)
+    for (std::uint32_t m = 0; m < level.band_u.rows(); ++m) band_row[level.band_u.target[m]] = m;
   system.u_constant.setZero(nu);
   system.p_constant.setZero(np);
   system.inverse_pressure_diagonal.setZero(np);
   system.pressure_weight.setOnes(np);
   for (Eigen::Index row = 0; row < nu; ++row) {
     const std::uint32_t var = system.u_variables[row];
-    const ExplicitRow r = builder.momentum(static_cast<int>(var / n), var % n);
+    const auto band = band_row.find(var);
+    const ExplicitRow r = band == band_row.end()
+                              ? builder.momentum(static_cast<int>(var / n), var % n)
+                              : band_row_terms(level, band->second);
     system.u_constant[row] = r.constant;
     for (const RowTerm& t : r.terms) {
       const std::int32_t col = index[t.variable];

@@ -3,7 +3,9 @@
 //   S u = c,  S = L_phi - G D_p^-1 G^T  (Eq. 12, upper-left block),
 // the staggered finite-difference discretization of Eq. 3 with the same boundary treatment as
 // the augmented system. S is symmetric negative definite; we store A = -S (SPD) for Cholesky and
-// CG. Unknowns are the level's interior u variables, in the order of `u_variables`.
+// CG. Unknowns are the level's interior u variables, in the order of `u_variables`. On a level
+// with Galerkin band rows (Level::galerkin_band_rows) those rows are read from band_u, and A is
+// then not exactly symmetric (the coarse solver factors it by LU).
 // Used for the exact solve on the coarsest level and by the CG baseline (Fig. 11).
 #include <Eigen/Sparse>
 #include <cstdint>

@@ -254,37 +254,67 @@ void restrict_residual_planes(const Level<Dim, Scalar>& fine,
 
 namespace {
 
-// A coarse value seen by the prolongation, with what kind of variable it came from.
-struct Sample {
+// A coarse value seen by the prolongation, with what kind of variable it came from. V is the
+// value: a number (the correction) or a LinearCombination of coarse variables (the explicit
+// prolongation row, prolongation_row), so both follow one set of rules.
+template <typename V>
+struct BasicSample {
   enum State { INACTIVE, DIRICHLET, ACTIVE } state = INACTIVE;
-  double value = 0.0;
+  V value{};
 };
+using Sample = BasicSample<double>;
+
+LinearCombination operator*(double w, LinearCombination c) {
+  for (auto& term : c.terms) term.second *= w;
+  return c;
+}
+LinearCombination operator+(LinearCombination a, const LinearCombination& b) {
+  a.terms.insert(a.terms.end(), b.terms.begin(), b.terms.end());
+  return a;
+}
 
 // Linear interpolation along one axis. Along a cell-centered axis a Dirichlet coarse variable
 // lies inside the Dirichlet region, half a coarse cell past the wall, so the partner is instead
 // extrapolated to zero at `depth` (in coarse cells) past the wall: the depth where the finest
 // level clamps (Level::dirichlet_zero_depth; 0 = on the wall, the odd reflection).
-Sample combine(const Sample& main, double w_main, const Sample& other, double w_other,
-               bool cell_centered, double depth) {
-  if (other.state == Sample::INACTIVE) return main;
-  if (main.state == Sample::INACTIVE) return other;
-  if (cell_centered && other.state == Sample::DIRICHLET && main.state == Sample::ACTIVE)
-    return {Sample::ACTIVE, (0.5 - w_other + depth) / (0.5 + depth) * main.value};
+template <typename V>
+BasicSample<V> combine(const BasicSample<V>& main, double w_main, const BasicSample<V>& other,
+                       double w_other, bool cell_centered, double depth) {
+  using S = BasicSample<V>;
+  if (other.state == S::INACTIVE) return main;
+  if (main.state == S::INACTIVE) return other;
+  if (cell_centered && other.state == S::DIRICHLET && main.state == S::ACTIVE)
+    return {S::ACTIVE, (0.5 - w_other + depth) / (0.5 + depth) * main.value};
   const auto state = std::max(main.state, other.state);
   return {cell_centered ? main.state : state, w_main * main.value + w_other * other.value};
 }
 
+// The correction's value: the coarse x (Dirichlet values are zero on coarse levels).
 template <int Dim, typename Scalar>
-Sample coarse_sample(const Level<Dim, Scalar>& coarse, int field, const IVec<Dim>& s) {
+double sample_value(const Level<Dim, Scalar>& coarse, int field, std::ptrdiff_t k, double*) {
+  return static_cast<double>(coarse.x[field][k]);
+}
+// The explicit row's value: the coarse variable itself, or nothing for a Dirichlet one (coarse
+// corrections vanish there).
+template <int Dim, typename Scalar>
+LinearCombination sample_value(const Level<Dim, Scalar>& coarse, int field, std::ptrdiff_t k,
+                               LinearCombination*) {
+  if (coarse.kind(field, k) == VarKind::DIRICHLET) return {};
+  return {{{coarse.global(field, k), 1.0}}};
+}
+
+template <typename V, int Dim, typename Scalar>
+BasicSample<V> coarse_sample(const Level<Dim, Scalar>& coarse, int field, const IVec<Dim>& s) {
+  using S = BasicSample<V>;
   const std::ptrdiff_t k = coarse.lattice.index(s);
   switch (coarse.kind(field, k)) {
     case VarKind::INACTIVE:
       return {};
 
     case VarKind::DIRICHLET:
-      return {Sample::DIRICHLET, static_cast<double>(coarse.x[field][k])};
+      return {S::DIRICHLET, sample_value(coarse, field, k, static_cast<V*>(nullptr))};
     default:
-      return {Sample::ACTIVE, static_cast<double>(coarse.x[field][k])};
+      return {S::ACTIVE, sample_value(coarse, field, k, static_cast<V*>(nullptr))};
   }
 }
 
@@ -309,18 +339,18 @@ double finest_wall_depth(const Level<Dim, Scalar>& coarse, int field, const IVec
 }
 
 // Tensor-product interpolation, one axis at a time from the last to the first.
-template <int Dim, typename Scalar>
-Sample interpolate(const Level<Dim, Scalar>& coarse, int field, const std::array<Taps, Dim>& taps,
-                   IVec<Dim>& s, int axis) {
-  if (axis < 0) return coarse_sample(coarse, field, s);
+template <typename V, int Dim, typename Scalar>
+BasicSample<V> interpolate(const Level<Dim, Scalar>& coarse, int field,
+                           const std::array<Taps, Dim>& taps, IVec<Dim>& s, int axis) {
+  if (axis < 0) return coarse_sample<V>(coarse, field, s);
   const Taps& t = taps[axis];
   s[axis] = t[0].coordinate;
-  const Sample first = interpolate<Dim, Scalar>(coarse, field, taps, s, axis - 1);
+  const BasicSample<V> first = interpolate<V, Dim, Scalar>(coarse, field, taps, s, axis - 1);
   if (t.size() == 1) return first;
   s[axis] = t[1].coordinate;
-  const Sample second = interpolate<Dim, Scalar>(coarse, field, taps, s, axis - 1);
+  const BasicSample<V> second = interpolate<V, Dim, Scalar>(coarse, field, taps, s, axis - 1);
   const double depth =
-      second.state == Sample::DIRICHLET && axis != field
+      second.state == BasicSample<V>::DIRICHLET && axis != field
           ? finest_wall_depth(coarse, field, s, axis, t[1].coordinate > t[0].coordinate)
           : 0.0;
   return combine(first, t[0].weight, second, t[1].weight, axis != field, depth);
@@ -478,7 +508,7 @@ void prolongate_row(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>& fine, 
     std::array<Taps, Dim> taps = outer.taps;
     taps[0] = t0;
     IVec<Dim> cs;
-    const Sample sample = interpolate<Dim, Scalar>(coarse, field, taps, cs, Dim - 1);
+    const Sample sample = interpolate<double, Dim, Scalar>(coarse, field, taps, cs, Dim - 1);
     if (sample.state != Sample::INACTIVE) x[base + i] += static_cast<Scalar>(sample.value);
   };
   // Fine x = 2j - 1 and 2j for coarse j in [1, last] in pairs (prolongate_pairs); the rest,
@@ -552,10 +582,41 @@ void prolongate_correction(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>&
   });
 }
 
-#define MGELASTIC_INSTANTIATE(D, S)                                                    \
-  template void restrict_residual<D, S>(const Level<D, S>&, Level<D, S>&);             \
-  template void restrict_residual_planes<D, S>(                                        \
-      const Level<D, S>&, const std::array<const S*, D + 1>&, Level<D, S>&, int, int); \
+void merge_terms(LinearCombination& combination) {
+  auto& terms = combination.terms;
+  std::sort(terms.begin(), terms.end());
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < terms.size();) {
+    std::size_t j = i;
+    double sum = 0.0;
+    for (; j < terms.size() && terms[j].first == terms[i].first; ++j) sum += terms[j].second;
+    if (sum != 0.0) terms[out++] = {terms[i].first, sum};
+    i = j;
+  }
+  terms.resize(out);
+}
+
+template <int Dim, typename Scalar>
+LinearCombination prolongation_row(const Level<Dim, Scalar>& coarse, const Level<Dim, Scalar>& fine,
+                                   int field, std::ptrdiff_t k) {
+  if (fine.kind(field, k) != VarKind::INTERIOR) return {};
+  const IVec<Dim> s = fine.lattice.coords(k);
+  std::array<Taps, Dim> taps;
+  for (int a = 0; a < Dim; ++a) taps[a] = prolongation_taps(s[a], a == field, false);
+  IVec<Dim> cs;
+  BasicSample<LinearCombination> sample =
+      interpolate<LinearCombination, Dim, Scalar>(coarse, field, taps, cs, Dim - 1);
+  if (sample.state == BasicSample<LinearCombination>::INACTIVE) return {};
+  merge_terms(sample.value);
+  return sample.value;
+}
+
+#define MGELASTIC_INSTANTIATE(D, S)                                                              \
+  template LinearCombination prolongation_row<D, S>(const Level<D, S>&, const Level<D, S>&, int, \
+                                                    std::ptrdiff_t);                             \
+  template void restrict_residual<D, S>(const Level<D, S>&, Level<D, S>&);                       \
+  template void restrict_residual_planes<D, S>(                                                  \
+      const Level<D, S>&, const std::array<const S*, D + 1>&, Level<D, S>&, int, int);           \
   template void prolongate_correction<D, S>(const Level<D, S>&, Level<D, S>&);
 MGELASTIC_INSTANTIATE(2, float)
 MGELASTIC_INSTANTIATE(2, double)

@@ -10,6 +10,9 @@
 // to fine interior variables, renormalizing the weights over coarse variables that are defined
 // (interior, Dirichlet = 0, or back-substituted traction values); inactive ones are skipped.
 #include <array>
+#include <cstdint>
+#include <utility>
+#include <vector>
 
 #include "mgelastic/grid/level.hpp"
 
@@ -28,5 +31,21 @@ void restrict_residual_planes(const Level<Dim, Scalar>& fine,
 
 template <int Dim, typename Scalar>
 void prolongate_correction(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>& fine);
+
+// A linear combination of a level's variables: (global index, weight) terms.
+struct LinearCombination {
+  std::vector<std::pair<std::uint32_t, double>> terms;
+};
+
+// Sorts the terms by variable and adds up repeated ones (dropping those that cancel to zero).
+void merge_terms(LinearCombination& combination);
+
+// The row of prolongate_correction for the fine u_field variable at flat index k: the coarse
+// variables it reads (interior or traction, as global coarse indices; Dirichlet ones read zero)
+// with their weights, merged. Empty for a fine variable that is not INTERIOR (the prolongation
+// writes only those). The Galerkin band rows (galerkin_band_rows.hpp) are built from it.
+template <int Dim, typename Scalar>
+LinearCombination prolongation_row(const Level<Dim, Scalar>& coarse, const Level<Dim, Scalar>& fine,
+                                   int field, std::ptrdiff_t k);
 
 }  // namespace mgelastic::grid

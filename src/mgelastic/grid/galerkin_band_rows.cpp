@@ -1,0 +1,270 @@
+#include "mgelastic/grid/galerkin_band_rows.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
+#include <utility>
+
+#include "mgelastic/grid/transfer.hpp"
+
+namespace mgelastic::grid {
+namespace {
+
+using Combination = LinearCombination;
+using Expansion = std::unordered_map<std::uint32_t, Combination>;
+
+void add_scaled(Combination& to, const Combination& from, double weight) {
+  for (const auto& [variable, value] : from.terms) to.terms.emplace_back(variable, weight * value);
+}
+
+// A variable of a correction as interior displacements: itself when interior, a traction
+// variable's expansion when its rule came earlier, else nothing (Dirichlet and inactive
+// variables read zero in corrections; pressures are left out of the Galerkin terms).
+template <int Dim, typename Scalar>
+Combination as_interior(const Level<Dim, Scalar>& level, const Expansion& traction,
+                        std::uint32_t global) {
+  const auto field = static_cast<int>(global / level.size());
+  const auto k = static_cast<std::ptrdiff_t>(global % level.size());
+  if (field == Dim) return {};
+  const VarKind kind = level.kind(field, k);
+  if (kind == VarKind::INTERIOR) return {{{global, 1.0}}};
+  if (kind == VarKind::TRACTION) {
+    const auto it = traction.find(global);
+    if (it != traction.end()) return it->second;
+  }
+  return {};
+}
+
+// The displacement part of back_substitute_traction, rule by rule in its order (a rule reads
+// the values the rules before it wrote; a later rule's variable still reads zero).
+template <int Dim, typename Scalar>
+Expansion traction_expansion(const Level<Dim, Scalar>& level) {
+  Expansion traction;
+  for (const auto& rule : level.traction.normal)
+    traction[rule.face] = as_interior(level, traction, rule.partner);
+  for (const auto& rule : level.traction.thin) {
+    Combination mean;
+    for (std::uint32_t neighbor : rule.neighbors)
+      add_scaled(mean, as_interior(level, traction, neighbor), 1.0 / rule.neighbors.size());
+    merge_terms(mean);
+    traction[rule.lower] = mean;
+    traction[rule.upper] = mean;
+  }
+  for (const auto& rule : level.traction.shear) {
+    Combination sum;
+    const double w = 1.0 / rule.count;
+    for (const auto& c : level.traction.candidates(rule)) {
+      add_scaled(sum, as_interior(level, traction, c.partner), w);
+      add_scaled(sum, as_interior(level, traction, c.plus), w * c.sign);
+      add_scaled(sum, as_interior(level, traction, c.minus), -w * c.sign);
+    }
+    merge_terms(sum);
+    traction[rule.face] = std::move(sum);
+  }
+  return traction;
+}
+
+// Rows of P: a fine interior displacement as coarse interior displacements, cached.
+template <int Dim, typename Scalar>
+class Prolongation {
+ public:
+  Prolongation(const Level<Dim, Scalar>& coarse, const Level<Dim, Scalar>& fine)
+      : m_coarse(coarse), m_fine(fine), m_traction(traction_expansion(coarse)) {}
+  const Combination& row(std::uint32_t fine_global) {
+    const auto [it, added] = m_rows.try_emplace(fine_global);
+    if (added) {
+      const auto field = static_cast<int>(fine_global / m_fine.size());
+      const auto k = static_cast<std::ptrdiff_t>(fine_global % m_fine.size());
+      for (const auto& [variable, weight] : prolongation_row(m_coarse, m_fine, field, k).terms)
+        add_scaled(it->second, as_interior(m_coarse, m_traction, variable), weight);
+      merge_terms(it->second);
+    }
+    return it->second;
+  }
+
+ private:
+  const Level<Dim, Scalar>& m_coarse;
+  const Level<Dim, Scalar>& m_fine;
+  Expansion m_traction;
+  std::unordered_map<std::uint32_t, Combination> m_rows;
+};
+
+// Momentum rows of the fine level as fine interior displacements: its band rows where it has
+// one, else RowBuilder's row (the stencil).
+template <int Dim, typename Scalar>
+class FineRows {
+ public:
+  explicit FineRows(const Level<Dim, Scalar>& fine)
+      : m_fine(fine),
+        m_builder(fine.lattice, fine.cells, fine.mu, {}, fine.inertia,
+                  fine.cell_weight.empty() ? nullptr : &fine.cell_weight, fine.dirichlet_zero_depth,
+                  &fine.dirichlet_wall_layers),
+        m_traction(traction_expansion(fine)) {
+    for (std::uint32_t m = 0; m < fine.band_u.rows(); ++m) m_band_row[fine.band_u.target[m]] = m;
+  }
+  Combination row(std::uint32_t global) const {
+    Combination out;
+    const auto it = m_band_row.find(global);
+    if (it != m_band_row.end()) {
+      const auto& rows = m_fine.band_u;
+      for (std::uint32_t e = rows.start[it->second]; e < rows.start[it->second + 1]; ++e)
+        add_scaled(out,
+                   as_interior(m_fine, m_traction,
+                               m_fine.global(rows.column_field[e], rows.column_index[e])),
+                   static_cast<double>(rows.value[e]));
+    } else {
+      const auto field = static_cast<int>(global / m_fine.size());
+      const auto k = static_cast<std::ptrdiff_t>(global % m_fine.size());
+      for (const RowTerm& t : m_builder.momentum(field, k).terms)
+        add_scaled(out, as_interior(m_fine, m_traction, t.variable), t.coefficient);
+    }
+    merge_terms(out);
+    return out;
+  }
+
+ private:
+  const Level<Dim, Scalar>& m_fine;
+  RowBuilder<Dim> m_builder;
+  Expansion m_traction;
+  std::unordered_map<std::uint32_t, std::uint32_t> m_band_row;
+};
+
+// Coarse cells within `reach` cells of a band row's two cells. A fine variable's prolongation
+// reads coarse variables of its own coarse cell's neighbors and, through the traction rules,
+// theirs: every fine variable that reads a band variable lies in a marked cell.
+template <int Dim, typename Scalar>
+std::vector<std::uint8_t> cells_near_band(const Level<Dim, Scalar>& coarse, int reach) {
+  const Lattice<Dim>& lattice = coarse.lattice;
+  std::vector<std::uint8_t> near(coarse.size(), 0);
+  const auto& band = coarse.band_u;
+  for (std::size_t m = 0; m < band.rows(); ++m) {
+    const std::ptrdiff_t k = band.target_index[m];
+    for (std::ptrdiff_t cell : {k, k - lattice.stride(band.target_field[m])}) {
+      const IVec<Dim> s = lattice.coords(cell);
+      IVec<Dim> lo, hi;
+      for (int a = 0; a < Dim; ++a) {
+        lo[a] = std::max(0, s[a] - reach);
+        hi[a] = std::min(lattice.padded(a) - 1, s[a] + reach);
+      }
+      IVec<Dim> t = lo;
+      while (true) {
+        near[lattice.index(t)] = 1;
+        int a = 0;
+        for (; a < Dim && ++t[a] > hi[a]; ++a) t[a] = lo[a];
+        if (a == Dim) break;
+      }
+    }
+  }
+  return near;
+}
+
+constexpr int kReach = 3;
+
+}  // namespace
+
+template <int Dim, typename Scalar>
+std::vector<std::vector<RowTerm>> galerkin_band_displacement_terms(
+    const Level<Dim, Scalar>& fine, const Level<Dim, Scalar>& coarse) {
+  const auto& band = coarse.band_u;
+  std::unordered_map<std::uint32_t, std::uint32_t> row_of;
+  for (std::uint32_t m = 0; m < band.rows(); ++m) row_of[band.target[m]] = m;
+  Prolongation<Dim, Scalar> prolongation(coarse, fine);
+  // Columns of P at the band's variables: the fine interior displacements that read each.
+  std::vector<std::vector<std::pair<std::uint32_t, double>>> column(band.rows());
+  const std::vector<std::uint8_t> near = cells_near_band(coarse, kReach);
+  for (std::ptrdiff_t c = 0; c < static_cast<std::ptrdiff_t>(coarse.size()); ++c) {
+    if (!near[c]) continue;
+    const IVec<Dim> cs = coarse.lattice.coords(c);
+    for (int child = 0; child < (1 << Dim); ++child) {
+      IVec<Dim> fs;
+      bool inside = true;
+      for (int a = 0; a < Dim; ++a) {
+        fs[a] = 2 * cs[a] - 1 + ((child >> a) & 1);
+        inside = inside && fs[a] >= 0 && fs[a] < fine.lattice.padded(a);
+      }
+      if (!inside) continue;
+      const std::ptrdiff_t kf = fine.lattice.index(fs);
+      for (int i = 0; i < Dim; ++i) {
+        if (fine.kind(i, kf) != VarKind::INTERIOR) continue;
+        const std::uint32_t g = fine.global(i, kf);
+        for (const auto& [variable, weight] : prolongation.row(g).terms) {
+          const auto it = row_of.find(variable);
+          if (it != row_of.end()) column[it->second].emplace_back(g, weight);
+        }
+      }
+    }
+  }
+  // Row I: sum over the fine i of column I of P_iI (A_f row i) P.
+  const FineRows<Dim, Scalar> fine_rows(fine);
+  std::unordered_map<std::uint32_t, Combination> fine_times_p;
+  std::vector<std::vector<RowTerm>> terms(band.rows());
+  for (std::size_t m = 0; m < band.rows(); ++m) {
+    Combination sum;
+    for (const auto& [g, weight] : column[m]) {
+      auto [it, added] = fine_times_p.try_emplace(g);
+      if (added) {
+        for (const auto& [j, a] : fine_rows.row(g).terms)
+          add_scaled(it->second, prolongation.row(j), a);
+        merge_terms(it->second);
+      }
+      add_scaled(sum, it->second, weight / (1 << Dim));
+    }
+    merge_terms(sum);
+    double largest = 0.0;
+    for (const auto& term : sum.terms) largest = std::max(largest, std::abs(term.second));
+    for (const auto& [variable, value] : sum.terms)
+      if (std::abs(value) > 1e-12 * largest) terms[m].push_back({variable, value});
+  }
+  return terms;
+}
+
+template <int Dim, typename Scalar>
+void install_galerkin_band_rows(const Level<Dim, Scalar>& fine, Level<Dim, Scalar>& coarse) {
+  const std::vector<std::vector<RowTerm>> terms = galerkin_band_displacement_terms(fine, coarse);
+  const SparseRows<Scalar> old = std::move(coarse.band_u);
+  SparseRows<Scalar>& rows = coarse.band_u;
+  rows = SparseRows<Scalar>();
+  rows.target = old.target;
+  rows.target_field = old.target_field;
+  rows.target_index = old.target_index;
+  rows.constant = old.constant;
+  const auto n = coarse.size();
+  for (std::size_t m = 0; m < old.rows(); ++m) {
+    double old_self = 0.0, new_self = 0.0;
+    for (std::uint32_t e = old.start[m]; e < old.start[m + 1]; ++e)
+      if (old.column_field[e] == old.target_field[m] && old.column_index[e] == old.target_index[m])
+        old_self = static_cast<double>(old.value[e]);
+    auto push = [&](std::uint8_t field, std::uint32_t index, double value) {
+      rows.column_field.push_back(field);
+      rows.column_index.push_back(index);
+      rows.value.push_back(static_cast<Scalar>(value));
+    };
+    for (const RowTerm& t : terms[m]) {
+      if (t.variable == old.target[m]) new_self = t.coefficient;
+      push(static_cast<std::uint8_t>(t.variable / n), static_cast<std::uint32_t>(t.variable % n),
+           t.coefficient);
+    }
+    // The row's own pressure terms (after the displacements: sorted by global index).
+    for (std::uint32_t e = old.start[m]; e < old.start[m + 1]; ++e)
+      if (old.column_field[e] == Dim)
+        push(old.column_field[e], old.column_index[e], static_cast<double>(old.value[e]));
+    rows.start.push_back(static_cast<std::uint32_t>(rows.value.size()));
+    coarse.band_u_schur_diagonal[m] = static_cast<Scalar>(
+        static_cast<double>(coarse.band_u_schur_diagonal[m]) - old_self + new_self);
+  }
+  coarse.galerkin_band_rows = true;
+  rebuild_band_sweep_data(coarse);
+}
+
+#define MGELASTIC_INSTANTIATE(D, S)                                                  \
+  template std::vector<std::vector<RowTerm>> galerkin_band_displacement_terms<D, S>( \
+      const Level<D, S>&, const Level<D, S>&);                                       \
+  template void install_galerkin_band_rows<D, S>(const Level<D, S>&, Level<D, S>&);
+MGELASTIC_INSTANTIATE(2, float)
+MGELASTIC_INSTANTIATE(2, double)
+MGELASTIC_INSTANTIATE(3, float)
+MGELASTIC_INSTANTIATE(3, double)
+#undef MGELASTIC_INSTANTIATE
+
+}  // namespace mgelastic::grid
