@@ -104,6 +104,7 @@ grid::MultigridOptions multigrid_options(const BoxBenchOptions& o) {
                                  ? grid::CoarseDirichletRule::EVERY_CHILD
                                  : grid::CoarseDirichletRule::ANY_CHILD;
   options.coarsest_operator = grid::coarsest_operator(o.coarsest_operator, "--coarsest-operator");
+  options.coarse_band_rows = grid::coarse_band_rows(o.coarse_band_rows, "--coarse-band-rows");
   return options;
 }
 
@@ -968,10 +969,15 @@ void register_bench_commands(CLI::App& app) {
   vcycle
       ->add_option("--coarsest-operator", profile_options.coarsest_operator,
                    "Coarsest level's operator: rediscretized, galerkin (P^T A P of the level "
-                   "above, probed: small problems only), galerkin_band (only its band rows) or "
-                   "local_galerkin_band (the band rows' displacement terms, computed locally, "
-                   "LU); with --max-levels 2 a two-level study of the coarse operator")
-      ->check(CLI::IsMember({"rediscretized", "galerkin", "galerkin_band", "local_galerkin_band"}));
+                   "above, probed: small problems only) or galerkin_band (only its band rows); "
+                   "with --max-levels 2 a two-level study of the coarse operator")
+      ->check(CLI::IsMember({"rediscretized", "galerkin", "galerkin_band"}));
+  vcycle
+      ->add_option("--coarse-band-rows", profile_options.coarse_band_rows,
+                   "Displacement terms of the coarse band rows: rediscretized (the paper's), "
+                   "galerkin_coarsest or galerkin (every coarse level; P^T A P of the level "
+                   "above, computed locally; smoothed levels keep theirs next to Dirichlet cells)")
+      ->check(CLI::IsMember({"rediscretized", "galerkin_coarsest", "galerkin"}));
   vcycle->add_option("--residual-blocks", profile_options.residual_blocks,
                      "Print the N cubes of 8^3 cells holding most of the residual after the last "
                      "cycle (where a slow mode sits)");

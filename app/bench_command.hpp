@@ -37,6 +37,7 @@ struct BoxBenchOptions {
   bool no_misaligned_clamp_depth = false;
   bool no_repair_coarse_cells = false;
   std::string coarse_dirichlet = "any_child";       // grid::CoarseDirichletRule
+  std::string coarse_band_rows = "rediscretized";   // grid::CoarseBandRows
   std::string coarsest_operator = "rediscretized";  // grid::CoarsestOperator
   // bench vcycle: after the last cycle, the cubes of 8^3 cells holding most of the finest
   // residual (grid/residual_blocks.hpp), this many per run; 0 = none.

@@ -17,12 +17,14 @@ else()
   message(STATUS "libdeflate not found: VTK data blocks are compressed with zlib (slower)")
 endif()
 
-# SuiteSparse CHOLMOD: sparse Cholesky for the coarsest multigrid level and tet hierarchies.
+# SuiteSparse CHOLMOD: sparse Cholesky for the coarsest multigrid level and tet hierarchies;
+# UMFPACK: sparse LU for a coarsest level with Galerkin band rows (unsymmetric).
 find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)
 find_library(CHOLMOD_LIBRARY cholmod REQUIRED)
+find_library(UMFPACK_LIBRARY umfpack REQUIRED)
 add_library(mgelastic_cholmod INTERFACE)
 target_include_directories(mgelastic_cholmod SYSTEM INTERFACE ${CHOLMOD_INCLUDE_DIR})
-target_link_libraries(mgelastic_cholmod INTERFACE ${CHOLMOD_LIBRARY})
+target_link_libraries(mgelastic_cholmod INTERFACE ${CHOLMOD_LIBRARY} ${UMFPACK_LIBRARY})
 
 if(MGELASTIC_BUILD_APP)
   find_package(CLI11 REQUIRED)

@@ -1,7 +1,7 @@
 #include "mgelastic/grid/coarse_solver.hpp"
 
 #include <Eigen/CholmodSupport>
-#include <Eigen/SparseLU>
+#include <Eigen/UmfPackSupport>
 
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/grid/boundary_smoother.hpp"
@@ -27,8 +27,9 @@ struct CoarseSolver<Dim, Scalar>::Impl {
   CoarseCholesky cholesky;
   // Galerkin band rows (galerkin_band_rows.hpp) next to stencil rows make the matrix
   // unsymmetric (its symmetric part diverges in a V-cycle): LU instead.
-  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
+  Eigen::UmfPackLU<Eigen::SparseMatrix<double>> lu;
   bool use_lu = false;
+  std::size_t lu_bytes = 0;  // L and U values and row indices
 };
 
 template <int Dim, typename Scalar>
@@ -48,6 +49,9 @@ CoarseSolver<Dim, Scalar>::CoarseSolver(const Level<Dim, Scalar>& level)
           "the coarsest-level system with Galerkin band rows is singular (is every part of the "
           "body held by a Dirichlet region?)",
           {.pointer = "grid"});
+    m_impl->lu_bytes = static_cast<std::size_t>(m_impl->lu.matrixL().nonZeros() +
+                                                m_impl->lu.matrixU().nonZeros()) *
+                       (sizeof(double) + sizeof(int));
     return;
   }
   m_impl->cholesky.compute(m_impl->system.matrix);
@@ -80,9 +84,7 @@ void CoarseSolver<Dim, Scalar>::solve(Level<Dim, Scalar>& level) const {
 
 template <int Dim, typename Scalar>
 std::size_t CoarseSolver<Dim, Scalar>::factor_bytes() const {
-  if (m_impl->use_lu)
-    return static_cast<std::size_t>(m_impl->lu.nnzL() + m_impl->lu.nnzU()) *
-           (sizeof(double) + sizeof(int));
+  if (m_impl->use_lu) return m_impl->lu_bytes;
   return m_impl->cholesky.factor_bytes();
 }
 

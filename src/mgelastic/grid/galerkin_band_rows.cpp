@@ -6,6 +6,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "mgelastic/core/error.hpp"
 #include "mgelastic/grid/transfer.hpp"
 
 namespace mgelastic::grid {
@@ -159,19 +160,54 @@ std::vector<std::uint8_t> cells_near_band(const Level<Dim, Scalar>& coarse, int 
   return near;
 }
 
-constexpr int kReach = 3;
+constexpr int kReach = 2;
+
+// Whether a Dirichlet cell lies among the neighbors (3^d block) of either cell of band row m.
+template <int Dim, typename Scalar>
+bool next_to_dirichlet(const Level<Dim, Scalar>& level, std::size_t m) {
+  const Lattice<Dim>& lattice = level.lattice;
+  const std::ptrdiff_t k = level.band_u.target_index[m];
+  for (std::ptrdiff_t cell : {k, k - lattice.stride(level.band_u.target_field[m])}) {
+    const IVec<Dim> s = lattice.coords(cell);
+    IVec<Dim> lo, hi;
+    for (int a = 0; a < Dim; ++a) {
+      lo[a] = std::max(0, s[a] - 1);
+      hi[a] = std::min(lattice.padded(a) - 1, s[a] + 1);
+    }
+    IVec<Dim> t = lo;
+    while (true) {
+      if (level.cells[lattice.index(t)] == CellType::DIRICHLET) return true;
+      int a = 0;
+      for (; a < Dim && ++t[a] > hi[a]; ++a) t[a] = lo[a];
+      if (a == Dim) break;
+    }
+  }
+  return false;
+}
 
 }  // namespace
 
+CoarseBandRows coarse_band_rows(const std::string& name, const std::string& pointer) {
+  if (name == "rediscretized") return CoarseBandRows::REDISCRETIZED;
+  if (name == "galerkin_coarsest") return CoarseBandRows::GALERKIN_COARSEST;
+  if (name == "galerkin") return CoarseBandRows::GALERKIN;
+  throw Error("must be 'rediscretized', 'galerkin_coarsest' or 'galerkin' (got '" + name + "')",
+              {.pointer = pointer});
+}
+
 template <int Dim, typename Scalar>
 std::vector<std::vector<RowTerm>> galerkin_band_displacement_terms(
-    const Level<Dim, Scalar>& fine, const Level<Dim, Scalar>& coarse) {
+    const Level<Dim, Scalar>& fine, const Level<Dim, Scalar>& coarse,
+    const std::vector<char>* wanted) {
   const auto& band = coarse.band_u;
   std::unordered_map<std::uint32_t, std::uint32_t> row_of;
-  for (std::uint32_t m = 0; m < band.rows(); ++m) row_of[band.target[m]] = m;
+  for (std::uint32_t m = 0; m < band.rows(); ++m)
+    if (!wanted || (*wanted)[m]) row_of[band.target[m]] = m;
   Prolongation<Dim, Scalar> prolongation(coarse, fine);
-  // Columns of P at the band's variables: the fine interior displacements that read each.
-  std::vector<std::vector<std::pair<std::uint32_t, double>>> column(band.rows());
+  // Columns of P at the band's variables, stored by fine variable: the band rows each fine
+  // interior displacement's prolongation reads, with the weights.
+  std::unordered_map<std::uint32_t, std::vector<std::pair<std::uint32_t, double>>> uses;
+  std::vector<std::uint32_t> fine_order;  // the fine variables in the order found
   const std::vector<std::uint8_t> near = cells_near_band(coarse, kReach);
   for (std::ptrdiff_t c = 0; c < static_cast<std::ptrdiff_t>(coarse.size()); ++c) {
     if (!near[c]) continue;
@@ -190,38 +226,54 @@ std::vector<std::vector<RowTerm>> galerkin_band_displacement_terms(
         const std::uint32_t g = fine.global(i, kf);
         for (const auto& [variable, weight] : prolongation.row(g).terms) {
           const auto it = row_of.find(variable);
-          if (it != row_of.end()) column[it->second].emplace_back(g, weight);
+          if (it == row_of.end()) continue;
+          auto& list = uses[g];
+          if (list.empty()) fine_order.push_back(g);
+          list.emplace_back(it->second, weight);
         }
       }
     }
   }
-  // Row I: sum over the fine i of column I of P_iI (A_f row i) P.
+  // Row I = sum over the fine i of P_iI (A_f row i) P: each fine row times P once, scattered
+  // into the rows that read it (merged as they grow).
   const FineRows<Dim, Scalar> fine_rows(fine);
-  std::unordered_map<std::uint32_t, Combination> fine_times_p;
+  std::vector<Combination> sums(band.rows());
+  std::vector<std::size_t> merged_size(band.rows(), 0);
+  for (std::uint32_t g : fine_order) {
+    Combination row_times_p;
+    for (const auto& [j, a] : fine_rows.row(g).terms)
+      add_scaled(row_times_p, prolongation.row(j), a);
+    merge_terms(row_times_p);
+    for (const auto& [m, weight] : uses[g]) {
+      Combination& sum = sums[m];
+      add_scaled(sum, row_times_p, weight / (1 << Dim));
+      if (sum.terms.size() > 2 * merged_size[m] + 256) {
+        merge_terms(sum);
+        merged_size[m] = sum.terms.size();
+      }
+    }
+  }
   std::vector<std::vector<RowTerm>> terms(band.rows());
   for (std::size_t m = 0; m < band.rows(); ++m) {
-    Combination sum;
-    for (const auto& [g, weight] : column[m]) {
-      auto [it, added] = fine_times_p.try_emplace(g);
-      if (added) {
-        for (const auto& [j, a] : fine_rows.row(g).terms)
-          add_scaled(it->second, prolongation.row(j), a);
-        merge_terms(it->second);
-      }
-      add_scaled(sum, it->second, weight / (1 << Dim));
-    }
+    Combination& sum = sums[m];
     merge_terms(sum);
     double largest = 0.0;
     for (const auto& term : sum.terms) largest = std::max(largest, std::abs(term.second));
     for (const auto& [variable, value] : sum.terms)
       if (std::abs(value) > 1e-12 * largest) terms[m].push_back({variable, value});
+    Combination().terms.swap(sum.terms);
   }
   return terms;
 }
 
 template <int Dim, typename Scalar>
-void install_galerkin_band_rows(const Level<Dim, Scalar>& fine, Level<Dim, Scalar>& coarse) {
-  const std::vector<std::vector<RowTerm>> terms = galerkin_band_displacement_terms(fine, coarse);
+void install_galerkin_band_rows(const Level<Dim, Scalar>& fine, Level<Dim, Scalar>& coarse,
+                                GalerkinRowSet set) {
+  std::vector<char> wanted(coarse.band_u.rows(), 1);
+  if (set == GalerkinRowSet::AWAY_FROM_DIRICHLET)
+    for (std::size_t m = 0; m < wanted.size(); ++m) wanted[m] = !next_to_dirichlet(coarse, m);
+  const std::vector<std::vector<RowTerm>> terms =
+      galerkin_band_displacement_terms(fine, coarse, &wanted);
   const SparseRows<Scalar> old = std::move(coarse.band_u);
   SparseRows<Scalar>& rows = coarse.band_u;
   rows = SparseRows<Scalar>();
@@ -240,6 +292,12 @@ void install_galerkin_band_rows(const Level<Dim, Scalar>& fine, Level<Dim, Scala
       rows.column_index.push_back(index);
       rows.value.push_back(static_cast<Scalar>(value));
     };
+    if (!wanted[m]) {
+      for (std::uint32_t e = old.start[m]; e < old.start[m + 1]; ++e)
+        push(old.column_field[e], old.column_index[e], static_cast<double>(old.value[e]));
+      rows.start.push_back(static_cast<std::uint32_t>(rows.value.size()));
+      continue;
+    }
     for (const RowTerm& t : terms[m]) {
       if (t.variable == old.target[m]) new_self = t.coefficient;
       push(static_cast<std::uint8_t>(t.variable / n), static_cast<std::uint32_t>(t.variable % n),
@@ -259,8 +317,8 @@ void install_galerkin_band_rows(const Level<Dim, Scalar>& fine, Level<Dim, Scala
 
 #define MGELASTIC_INSTANTIATE(D, S)                                                  \
   template std::vector<std::vector<RowTerm>> galerkin_band_displacement_terms<D, S>( \
-      const Level<D, S>&, const Level<D, S>&);                                       \
-  template void install_galerkin_band_rows<D, S>(const Level<D, S>&, Level<D, S>&);
+      const Level<D, S>&, const Level<D, S>&, const std::vector<char>*);             \
+  template void install_galerkin_band_rows<D, S>(const Level<D, S>&, Level<D, S>&, GalerkinRowSet);
 MGELASTIC_INSTANTIATE(2, float)
 MGELASTIC_INSTANTIATE(2, double)
 MGELASTIC_INSTANTIATE(3, float)

@@ -18,11 +18,8 @@ CoarsestOperator coarsest_operator(const std::string& name, const std::string& p
   if (name == "rediscretized") return CoarsestOperator::REDISCRETIZED;
   if (name == "galerkin") return CoarsestOperator::GALERKIN;
   if (name == "galerkin_band") return CoarsestOperator::GALERKIN_BAND;
-  if (name == "local_galerkin_band") return CoarsestOperator::LOCAL_GALERKIN_BAND;
-  throw Error(
-      "must be 'rediscretized', 'galerkin', 'galerkin_band' or 'local_galerkin_band' (got '" +
-          name + "')",
-      {.pointer = pointer});
+  throw Error("must be 'rediscretized', 'galerkin' or 'galerkin_band' (got '" + name + "')",
+              {.pointer = pointer});
 }
 
 namespace {

@@ -20,14 +20,11 @@
 
 namespace mgelastic::grid {
 
-// REDISCRETIZED: the level's own rows, Cholesky (coarse_solver.hpp). GALERKIN, GALERKIN_BAND: the
-// probed diagnostic of this header. LOCAL_GALERKIN_BAND: the displacement terms of the coarsest
-// level's band rows replaced by the locally computed Galerkin terms (galerkin_band_rows.hpp),
-// factored by sparse LU (coarse_solver.hpp); usable at production sizes.
-enum class CoarsestOperator { REDISCRETIZED, GALERKIN, GALERKIN_BAND, LOCAL_GALERKIN_BAND };
+// (The production form, Galerkin displacement terms computed locally on every coarse level, is
+// galerkin_band_rows.hpp.)
+enum class CoarsestOperator { REDISCRETIZED, GALERKIN, GALERKIN_BAND };
 
-// "rediscretized", "galerkin", "galerkin_band" or "local_galerkin_band"; throws Error naming
-// `pointer` otherwise.
+// "rediscretized", "galerkin" or "galerkin_band"; throws Error naming `pointer` otherwise.
 CoarsestOperator coarsest_operator(const std::string& name, const std::string& pointer);
 
 template <int Dim, typename Scalar>

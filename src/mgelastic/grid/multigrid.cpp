@@ -224,8 +224,7 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
   // one level finer, down to a direct solve of the finest level itself.
   while (true) {
     build_levels(problem, lattices, cells, weights);
-    if (m_options.coarsest_operator == CoarsestOperator::LOCAL_GALERKIN_BAND && m_levels.size() > 1)
-      install_galerkin_band_rows(m_levels[m_levels.size() - 2], m_levels.back());
+    install_coarse_galerkin_rows();
     try {
       m_coarse = std::make_unique<CoarseSolver<Dim, Scalar>>(m_levels.back());
       for (Level<Dim, Scalar>& level : m_levels) {
@@ -244,9 +243,7 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
   // without one; allocated where a caller asks for a residual array, update_residual).
   for (std::size_t l = 0; l + 1 < m_levels.size(); ++l)
     m_band_row_planes.push_back(band_row_planes(m_levels[l]));
-  if ((m_options.coarsest_operator == CoarsestOperator::GALERKIN ||
-       m_options.coarsest_operator == CoarsestOperator::GALERKIN_BAND) &&
-      m_levels.size() > 1)
+  if (m_options.coarsest_operator != CoarsestOperator::REDISCRETIZED && m_levels.size() > 1)
     m_galerkin = std::make_unique<GalerkinCoarseSolver<Dim, Scalar>>(
         m_levels[m_levels.size() - 2], m_levels.back(),
         m_options.coarsest_operator == CoarsestOperator::GALERKIN_BAND);
@@ -300,6 +297,19 @@ void Multigrid<Dim, Scalar>::build_levels(const ElasticityProblem<Dim>& problem,
               : std::vector<std::uint8_t>{},
         m_options.release_dead_pages));
   }
+}
+
+// From the finest level down: a level's Galerkin rows are built from the level above as the
+// cycle will run it, its own Galerkin rows included.
+template <int Dim, typename Scalar>
+void Multigrid<Dim, Scalar>::install_coarse_galerkin_rows() {
+  const std::size_t levels = m_levels.size();
+  if (levels < 2 || m_options.coarse_band_rows == CoarseBandRows::REDISCRETIZED) return;
+  const std::size_t first = m_options.coarse_band_rows == CoarseBandRows::GALERKIN ? 1 : levels - 1;
+  for (std::size_t l = first; l < levels; ++l)
+    install_galerkin_band_rows(
+        m_levels[l - 1], m_levels[l],
+        l + 1 < levels ? GalerkinRowSet::AWAY_FROM_DIRICHLET : GalerkinRowSet::ALL);
 }
 
 template <int Dim, typename Scalar>

@@ -12,6 +12,7 @@
 #include "mgelastic/grid/boundary_smoother.hpp"
 #include "mgelastic/grid/coarse_solver.hpp"
 #include "mgelastic/grid/coarsening.hpp"
+#include "mgelastic/grid/galerkin_band_rows.hpp"
 #include "mgelastic/grid/galerkin_coarsest.hpp"
 #include "mgelastic/grid/level.hpp"
 #include "mgelastic/grid/problem.hpp"
@@ -68,13 +69,15 @@ struct MultigridOptions {
   // Which coarse cells are Dirichlet (coarsening.hpp). EVERY_CHILD pays only with a Galerkin
   // coarse operator.
   CoarseDirichletRule coarse_dirichlet = CoarseDirichletRule::ANY_CHILD;
-  // The coarsest level's operator (galerkin_coarsest.hpp). GALERKIN and GALERKIN_BAND are
-  // diagnostics for two-level studies (one probe per coarse unknown: small problems only);
-  // LOCAL_GALERKIN_BAND gives the coarsest band rows Galerkin displacement terms computed
-  // locally (galerkin_band_rows.hpp), factored by LU. Not on smoothed levels: there the
-  // distributive sweeps and Galerkin band rows together diverge
-  // (docs/notes/2026-12-06-galerkin-band-rows.md).
+  // Diagnostics for two-level studies (galerkin_coarsest.hpp): the coarsest level solved with
+  // the Galerkin product of the level above instead of its rediscretized rows. Builds by one
+  // probe per coarse unknown: small problems only.
   CoarsestOperator coarsest_operator = CoarsestOperator::REDISCRETIZED;
+  // Galerkin displacement terms in the coarse levels' band rows (galerkin_band_rows.hpp,
+  // computed locally; a level with them is factored by LU when it is the coarsest).
+  // docs/notes/2026-12-06-galerkin-band-rows.md: the embedded bodies and misaligned clamps gain,
+  // the aligned box loses (0.26 -> 0.32 at nu 0.495), so not the default.
+  CoarseBandRows coarse_band_rows = CoarseBandRows::REDISCRETIZED;
   // Float levels only. true: mixed precision, the solution and its residual in double on a
   // copy of the finest level (residuals far below float round-off). false: the paper's single
   // precision, the float finest level holds the solution itself: about half the memory
@@ -217,6 +220,7 @@ class Multigrid {
                     const std::vector<Lattice<Dim>>& lattices,
                     const std::vector<std::vector<CellType>>& cells,
                     const std::vector<std::vector<double>>& weights);
+  void install_coarse_galerkin_rows();  // MultigridOptions::coarse_band_rows
   // Float levels with a double solution level (MultigridOptions::mixed_precision).
   bool mixed_precision() const { return !std::is_same_v<Scalar, double> && !single_precision(); }
   void smooth(int l, bool pre);
