@@ -241,7 +241,8 @@ nlohmann::json convergence(const BoxBenchOptions& o) {
       {"last_ratio", grid::last_ratio(report.residuals, floor)},
       {"rate_settled", grid::rate_settled(report.residuals, floor)},
       {"solve_seconds", report.seconds},
-      {"setup_seconds", setup_seconds}};
+      {"setup_seconds", setup_seconds},
+      {"coarse_band_rows", o.coarse_band_rows}};
   if (o.bc == "mixed") record["clamp_cells"] = grid::clamp_thickness(box_spec(o));
   add_cycle_fields(record, mg, report, o.triad_gb_per_s);
   add_residual_blocks(record, mg, o.residual_blocks);
