@@ -1,6 +1,7 @@
 #include "mgelastic/grid/galerkin_band_rows.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <unordered_map>
@@ -38,7 +39,8 @@ Combination as_interior(const Level<Dim, Scalar>& level, const Expansion& tracti
 }
 
 // The displacement part of back_substitute_traction, rule by rule in its order (a rule reads
-// the values the rules before it wrote; a later rule's variable still reads zero).
+// the values the rules before it wrote; a later rule's variable holds a value from the previous
+// back-substitution, independent of this correction, and counts as zero, as in the probes).
 template <int Dim, typename Scalar>
 Expansion traction_expansion(const Level<Dim, Scalar>& level) {
   Expansion traction;
@@ -131,32 +133,40 @@ class FineRows {
   std::unordered_map<std::uint32_t, std::uint32_t> m_band_row;
 };
 
+// Calls f(k) for every cell k within `reach` cells (per axis) of `cell`, inside the storage.
+template <int Dim, typename F>
+void for_each_cell_near(const Lattice<Dim>& lattice, std::ptrdiff_t cell, int reach, F&& f) {
+  const IVec<Dim> s = lattice.coords(cell);
+  IVec<Dim> lo, hi;
+  for (int a = 0; a < Dim; ++a) {
+    lo[a] = std::max(0, s[a] - reach);
+    hi[a] = std::min(lattice.padded(a) - 1, s[a] + reach);
+  }
+  IVec<Dim> t = lo;
+  while (true) {
+    f(lattice.index(t));
+    int a = 0;
+    for (; a < Dim && ++t[a] > hi[a]; ++a) t[a] = lo[a];
+    if (a == Dim) return;
+  }
+}
+
+// The two cells of band row m (the face's lower and upper cell).
+template <int Dim, typename Scalar>
+std::array<std::ptrdiff_t, 2> row_cells(const Level<Dim, Scalar>& level, std::size_t m) {
+  const std::ptrdiff_t k = level.band_u.target_index[m];
+  return {k, k - level.lattice.stride(level.band_u.target_field[m])};
+}
+
 // Coarse cells within `reach` cells of a band row's two cells. A fine variable's prolongation
 // reads coarse variables of its own coarse cell's neighbors and, through the traction rules,
 // theirs: every fine variable that reads a band variable lies in a marked cell.
 template <int Dim, typename Scalar>
 std::vector<std::uint8_t> cells_near_band(const Level<Dim, Scalar>& coarse, int reach) {
-  const Lattice<Dim>& lattice = coarse.lattice;
   std::vector<std::uint8_t> near(coarse.size(), 0);
-  const auto& band = coarse.band_u;
-  for (std::size_t m = 0; m < band.rows(); ++m) {
-    const std::ptrdiff_t k = band.target_index[m];
-    for (std::ptrdiff_t cell : {k, k - lattice.stride(band.target_field[m])}) {
-      const IVec<Dim> s = lattice.coords(cell);
-      IVec<Dim> lo, hi;
-      for (int a = 0; a < Dim; ++a) {
-        lo[a] = std::max(0, s[a] - reach);
-        hi[a] = std::min(lattice.padded(a) - 1, s[a] + reach);
-      }
-      IVec<Dim> t = lo;
-      while (true) {
-        near[lattice.index(t)] = 1;
-        int a = 0;
-        for (; a < Dim && ++t[a] > hi[a]; ++a) t[a] = lo[a];
-        if (a == Dim) break;
-      }
-    }
-  }
+  for (std::size_t m = 0; m < coarse.band_u.rows(); ++m)
+    for (std::ptrdiff_t cell : row_cells(coarse, m))
+      for_each_cell_near(coarse.lattice, cell, reach, [&](std::ptrdiff_t k) { near[k] = 1; });
   return near;
 }
 
@@ -165,24 +175,12 @@ constexpr int kReach = 2;
 // Whether a Dirichlet cell lies among the neighbors (3^d block) of either cell of band row m.
 template <int Dim, typename Scalar>
 bool next_to_dirichlet(const Level<Dim, Scalar>& level, std::size_t m) {
-  const Lattice<Dim>& lattice = level.lattice;
-  const std::ptrdiff_t k = level.band_u.target_index[m];
-  for (std::ptrdiff_t cell : {k, k - lattice.stride(level.band_u.target_field[m])}) {
-    const IVec<Dim> s = lattice.coords(cell);
-    IVec<Dim> lo, hi;
-    for (int a = 0; a < Dim; ++a) {
-      lo[a] = std::max(0, s[a] - 1);
-      hi[a] = std::min(lattice.padded(a) - 1, s[a] + 1);
-    }
-    IVec<Dim> t = lo;
-    while (true) {
-      if (level.cells[lattice.index(t)] == CellType::DIRICHLET) return true;
-      int a = 0;
-      for (; a < Dim && ++t[a] > hi[a]; ++a) t[a] = lo[a];
-      if (a == Dim) break;
-    }
-  }
-  return false;
+  bool found = false;
+  for (std::ptrdiff_t cell : row_cells(level, m))
+    for_each_cell_near(level.lattice, cell, 1, [&](std::ptrdiff_t k) {
+      found = found || level.cells[k] == CellType::DIRICHLET;
+    });
+  return found;
 }
 
 }  // namespace
