@@ -40,6 +40,18 @@ struct ExplicitRow {
   double pressure_extra = 0.0;  // pressure rows only
 };
 
+// Row m of a level's CSR rows (e.g. band_u) as an explicit row: its stored terms and constant.
+template <int Dim, typename Scalar>
+ExplicitRow stored_row(const Level<Dim, Scalar>& level, const SparseRows<Scalar>& rows,
+                       std::uint32_t m) {
+  ExplicitRow row;
+  row.constant = static_cast<double>(rows.constant[m]);
+  for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e)
+    row.terms.push_back({level.global(rows.column_field[e], rows.column_index[e]),
+                         static_cast<double>(rows.value[e])});
+  return row;
+}
+
 template <int Dim>
 class RowBuilder {
  public:

@@ -13,29 +13,28 @@
 namespace mgelastic::grid {
 namespace {
 
-using Combination = LinearCombination;
-using Expansion = std::unordered_map<std::uint32_t, Combination>;
+using Expansion = std::unordered_map<std::uint32_t, LinearCombination>;
 
-void add_scaled(Combination& to, const Combination& from, double weight) {
+void add_scaled(LinearCombination& to, const LinearCombination& from, double weight) {
   for (const auto& [variable, value] : from.terms) to.terms.emplace_back(variable, weight * value);
 }
 
-// A variable of a correction as interior displacements: itself when interior, a traction
-// variable's expansion when its rule came earlier, else nothing (Dirichlet and inactive
-// variables read zero in corrections; pressures are left out of the Galerkin terms).
+// Adds weight times a variable of a correction as interior displacements: itself when interior,
+// a traction variable's expansion when its rule came earlier, else nothing (Dirichlet and
+// inactive variables read zero in corrections; pressures are left out of the Galerkin terms).
 template <int Dim, typename Scalar>
-Combination as_interior(const Level<Dim, Scalar>& level, const Expansion& traction,
-                        std::uint32_t global) {
+void add_as_interior(LinearCombination& to, const Level<Dim, Scalar>& level,
+                     const Expansion& traction, std::uint32_t global, double weight) {
   const auto field = static_cast<int>(global / level.size());
   const auto k = static_cast<std::ptrdiff_t>(global % level.size());
-  if (field == Dim) return {};
+  if (field == Dim) return;
   const VarKind kind = level.kind(field, k);
-  if (kind == VarKind::INTERIOR) return {{{global, 1.0}}};
-  if (kind == VarKind::TRACTION) {
+  if (kind == VarKind::INTERIOR) {
+    to.terms.emplace_back(global, weight);
+  } else if (kind == VarKind::TRACTION) {
     const auto it = traction.find(global);
-    if (it != traction.end()) return it->second;
+    if (it != traction.end()) add_scaled(to, it->second, weight);
   }
-  return {};
 }
 
 // The displacement part of back_substitute_traction, rule by rule in its order (a rule reads
@@ -44,23 +43,26 @@ Combination as_interior(const Level<Dim, Scalar>& level, const Expansion& tracti
 template <int Dim, typename Scalar>
 Expansion traction_expansion(const Level<Dim, Scalar>& level) {
   Expansion traction;
-  for (const auto& rule : level.traction.normal)
-    traction[rule.face] = as_interior(level, traction, rule.partner);
+  for (const auto& rule : level.traction.normal) {
+    LinearCombination face;
+    add_as_interior(face, level, traction, rule.partner, 1.0);
+    traction[rule.face] = std::move(face);
+  }
   for (const auto& rule : level.traction.thin) {
-    Combination mean;
+    LinearCombination mean;
     for (std::uint32_t neighbor : rule.neighbors)
-      add_scaled(mean, as_interior(level, traction, neighbor), 1.0 / rule.neighbors.size());
+      add_as_interior(mean, level, traction, neighbor, 1.0 / rule.neighbors.size());
     merge_terms(mean);
     traction[rule.lower] = mean;
     traction[rule.upper] = mean;
   }
   for (const auto& rule : level.traction.shear) {
-    Combination sum;
+    LinearCombination sum;
     const double w = 1.0 / rule.count;
     for (const auto& c : level.traction.candidates(rule)) {
-      add_scaled(sum, as_interior(level, traction, c.partner), w);
-      add_scaled(sum, as_interior(level, traction, c.plus), w * c.sign);
-      add_scaled(sum, as_interior(level, traction, c.minus), -w * c.sign);
+      add_as_interior(sum, level, traction, c.partner, w);
+      add_as_interior(sum, level, traction, c.plus, w * c.sign);
+      add_as_interior(sum, level, traction, c.minus, -w * c.sign);
     }
     merge_terms(sum);
     traction[rule.face] = std::move(sum);
@@ -74,13 +76,13 @@ class Prolongation {
  public:
   Prolongation(const Level<Dim, Scalar>& coarse, const Level<Dim, Scalar>& fine)
       : m_coarse(coarse), m_fine(fine), m_traction(traction_expansion(coarse)) {}
-  const Combination& row(std::uint32_t fine_global) {
+  const LinearCombination& row(std::uint32_t fine_global) {
     const auto [it, added] = m_rows.try_emplace(fine_global);
     if (added) {
       const auto field = static_cast<int>(fine_global / m_fine.size());
       const auto k = static_cast<std::ptrdiff_t>(fine_global % m_fine.size());
       for (const auto& [variable, weight] : prolongation_row(m_coarse, m_fine, field, k).terms)
-        add_scaled(it->second, as_interior(m_coarse, m_traction, variable), weight);
+        add_as_interior(it->second, m_coarse, m_traction, variable, weight);
       merge_terms(it->second);
     }
     return it->second;
@@ -90,7 +92,7 @@ class Prolongation {
   const Level<Dim, Scalar>& m_coarse;
   const Level<Dim, Scalar>& m_fine;
   Expansion m_traction;
-  std::unordered_map<std::uint32_t, Combination> m_rows;
+  std::unordered_map<std::uint32_t, LinearCombination> m_rows;
 };
 
 // Momentum rows of the fine level as fine interior displacements: its band rows where it has
@@ -103,25 +105,18 @@ class FineRows {
         m_builder(fine.lattice, fine.cells, fine.mu, {}, fine.inertia,
                   fine.cell_weight.empty() ? nullptr : &fine.cell_weight, fine.dirichlet_zero_depth,
                   &fine.dirichlet_wall_layers),
-        m_traction(traction_expansion(fine)) {
-    for (std::uint32_t m = 0; m < fine.band_u.rows(); ++m) m_band_row[fine.band_u.target[m]] = m;
-  }
-  Combination row(std::uint32_t global) const {
-    Combination out;
+        m_traction(traction_expansion(fine)),
+        m_band_row(rows_by_target(fine.band_u)) {}
+  LinearCombination row(std::uint32_t global) const {
     const auto it = m_band_row.find(global);
-    if (it != m_band_row.end()) {
-      const auto& rows = m_fine.band_u;
-      for (std::uint32_t e = rows.start[it->second]; e < rows.start[it->second + 1]; ++e)
-        add_scaled(out,
-                   as_interior(m_fine, m_traction,
-                               m_fine.global(rows.column_field[e], rows.column_index[e])),
-                   static_cast<double>(rows.value[e]));
-    } else {
-      const auto field = static_cast<int>(global / m_fine.size());
-      const auto k = static_cast<std::ptrdiff_t>(global % m_fine.size());
-      for (const RowTerm& t : m_builder.momentum(field, k).terms)
-        add_scaled(out, as_interior(m_fine, m_traction, t.variable), t.coefficient);
-    }
+    const ExplicitRow explicit_row =
+        it != m_band_row.end()
+            ? stored_row(m_fine, m_fine.band_u, it->second)
+            : m_builder.momentum(static_cast<int>(global / m_fine.size()),
+                                 static_cast<std::ptrdiff_t>(global % m_fine.size()));
+    LinearCombination out;
+    for (const RowTerm& t : explicit_row.terms)
+      add_as_interior(out, m_fine, m_traction, t.variable, t.coefficient);
     merge_terms(out);
     return out;
   }
@@ -198,9 +193,7 @@ std::vector<std::vector<RowTerm>> galerkin_band_displacement_terms(
     const Level<Dim, Scalar>& fine, const Level<Dim, Scalar>& coarse,
     const std::vector<char>* wanted) {
   const auto& band = coarse.band_u;
-  std::unordered_map<std::uint32_t, std::uint32_t> row_of;
-  for (std::uint32_t m = 0; m < band.rows(); ++m)
-    if (!wanted || (*wanted)[m]) row_of[band.target[m]] = m;
+  const auto row_of = rows_by_target(band);
   Prolongation<Dim, Scalar> prolongation(coarse, fine);
   // Columns of P at the band's variables, stored by fine variable: the band rows each fine
   // interior displacement's prolongation reads, with the weights.
@@ -224,7 +217,7 @@ std::vector<std::vector<RowTerm>> galerkin_band_displacement_terms(
         const std::uint32_t g = fine.global(i, kf);
         for (const auto& [variable, weight] : prolongation.row(g).terms) {
           const auto it = row_of.find(variable);
-          if (it == row_of.end()) continue;
+          if (it == row_of.end() || (wanted && !(*wanted)[it->second])) continue;
           auto& list = uses[g];
           if (list.empty()) fine_order.push_back(g);
           list.emplace_back(it->second, weight);
@@ -235,15 +228,15 @@ std::vector<std::vector<RowTerm>> galerkin_band_displacement_terms(
   // Row I = sum over the fine i of P_iI (A_f row i) P: each fine row times P once, scattered
   // into the rows that read it (merged as they grow).
   const FineRows<Dim, Scalar> fine_rows(fine);
-  std::vector<Combination> sums(band.rows());
+  std::vector<LinearCombination> sums(band.rows());
   std::vector<std::size_t> merged_size(band.rows(), 0);
   for (std::uint32_t g : fine_order) {
-    Combination row_times_p;
+    LinearCombination row_times_p;
     for (const auto& [j, a] : fine_rows.row(g).terms)
       add_scaled(row_times_p, prolongation.row(j), a);
     merge_terms(row_times_p);
     for (const auto& [m, weight] : uses[g]) {
-      Combination& sum = sums[m];
+      LinearCombination& sum = sums[m];
       add_scaled(sum, row_times_p, weight / (1 << Dim));
       if (sum.terms.size() > 2 * merged_size[m] + 256) {
         merge_terms(sum);
@@ -253,13 +246,13 @@ std::vector<std::vector<RowTerm>> galerkin_band_displacement_terms(
   }
   std::vector<std::vector<RowTerm>> terms(band.rows());
   for (std::size_t m = 0; m < band.rows(); ++m) {
-    Combination& sum = sums[m];
+    LinearCombination& sum = sums[m];
     merge_terms(sum);
     double largest = 0.0;
     for (const auto& term : sum.terms) largest = std::max(largest, std::abs(term.second));
     for (const auto& [variable, value] : sum.terms)
       if (std::abs(value) > 1e-12 * largest) terms[m].push_back({variable, value});
-    Combination().terms.swap(sum.terms);
+    LinearCombination().terms.swap(sum.terms);
   }
   return terms;
 }
@@ -280,34 +273,33 @@ void install_galerkin_band_rows(const Level<Dim, Scalar>& fine, Level<Dim, Scala
   rows.target_index = old.target_index;
   rows.constant = old.constant;
   const auto n = coarse.size();
+  auto push = [&](std::uint8_t field, std::uint32_t index, double value) {
+    rows.column_field.push_back(field);
+    rows.column_index.push_back(index);
+    rows.value.push_back(static_cast<Scalar>(value));
+  };
   for (std::size_t m = 0; m < old.rows(); ++m) {
+    // Kept rows as they were; replaced ones: the Galerkin displacement terms, then the row's own
+    // pressure terms (sorted by global index either way).
     double old_self = 0.0, new_self = 0.0;
-    for (std::uint32_t e = old.start[m]; e < old.start[m + 1]; ++e)
-      if (old.column_field[e] == old.target_field[m] && old.column_index[e] == old.target_index[m])
-        old_self = static_cast<double>(old.value[e]);
-    auto push = [&](std::uint8_t field, std::uint32_t index, double value) {
-      rows.column_field.push_back(field);
-      rows.column_index.push_back(index);
-      rows.value.push_back(static_cast<Scalar>(value));
-    };
-    if (!wanted[m]) {
+    for (std::uint32_t e = old.start[m]; e < old.start[m + 1]; ++e) {
+      const bool self =
+          old.column_field[e] == old.target_field[m] && old.column_index[e] == old.target_index[m];
+      if (self) old_self = static_cast<double>(old.value[e]);
+      if (!wanted[m]) push(old.column_field[e], old.column_index[e], old.value[e]);
+    }
+    if (wanted[m]) {
+      for (const RowTerm& t : terms[m]) {
+        if (t.variable == old.target[m]) new_self = t.coefficient;
+        push(static_cast<std::uint8_t>(t.variable / n), static_cast<std::uint32_t>(t.variable % n),
+             t.coefficient);
+      }
       for (std::uint32_t e = old.start[m]; e < old.start[m + 1]; ++e)
-        push(old.column_field[e], old.column_index[e], static_cast<double>(old.value[e]));
-      rows.start.push_back(static_cast<std::uint32_t>(rows.value.size()));
-      continue;
+        if (old.column_field[e] == Dim) push(Dim, old.column_index[e], old.value[e]);
+      coarse.band_u_schur_diagonal[m] = static_cast<Scalar>(
+          static_cast<double>(coarse.band_u_schur_diagonal[m]) - old_self + new_self);
     }
-    for (const RowTerm& t : terms[m]) {
-      if (t.variable == old.target[m]) new_self = t.coefficient;
-      push(static_cast<std::uint8_t>(t.variable / n), static_cast<std::uint32_t>(t.variable % n),
-           t.coefficient);
-    }
-    // The row's own pressure terms (after the displacements: sorted by global index).
-    for (std::uint32_t e = old.start[m]; e < old.start[m + 1]; ++e)
-      if (old.column_field[e] == Dim)
-        push(old.column_field[e], old.column_index[e], static_cast<double>(old.value[e]));
     rows.start.push_back(static_cast<std::uint32_t>(rows.value.size()));
-    coarse.band_u_schur_diagonal[m] = static_cast<Scalar>(
-        static_cast<double>(coarse.band_u_schur_diagonal[m]) - old_self + new_self);
   }
   coarse.galerkin_band_rows = true;
   rebuild_band_sweep_data(coarse);

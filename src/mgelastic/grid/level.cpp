@@ -479,8 +479,7 @@ double row_coefficient(const SparseRows<Scalar>& rows, std::uint32_t m, std::uin
 template <int Dim, typename Scalar>
 void build_band_blocks(Level<Dim, Scalar>& level) {
   const auto n = static_cast<std::ptrdiff_t>(level.size());
-  std::unordered_map<std::uint32_t, std::uint32_t> row_of;
-  for (std::uint32_t m = 0; m < level.band_u.rows(); ++m) row_of[level.band_u.target[m]] = m;
+  const auto row_of = rows_by_target(level.band_u);
   std::vector<std::uint8_t> in_block(level.band_u.rows(), 0);
   constexpr int B = 2 * Dim;
   std::unordered_map<std::string, std::uint32_t> inverse_ids;  // by the inverse's exact bytes

@@ -26,6 +26,7 @@
 #include <functional>
 #include <span>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -55,6 +56,14 @@ struct SparseRows {
   std::size_t rows() const { return target.size(); }
   std::size_t entries() const { return value.size(); }
 };
+
+// Each row's number by its target's global index, for lookups by variable.
+template <typename Scalar>
+std::unordered_map<std::uint32_t, std::uint32_t> rows_by_target(const SparseRows<Scalar>& rows) {
+  std::unordered_map<std::uint32_t, std::uint32_t> row_of;
+  for (std::uint32_t m = 0; m < rows.rows(); ++m) row_of[rows.target[m]] = m;
+  return row_of;
+}
 
 // Back-substitution of traction variables (Sec. 5.3, last paragraph). First the faces between an
 // interior and an exterior cell from the normal stress condition P_ii = sigma, then faces half a

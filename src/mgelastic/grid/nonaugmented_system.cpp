@@ -24,18 +24,6 @@ void number_unknowns(const Level<Dim, Scalar>& level, NonAugmentedSystem<Dim>& s
   }
 }
 
-// Band row m of the level as an explicit row (its stored terms and constant).
-template <int Dim, typename Scalar>
-ExplicitRow band_row_terms(const Level<Dim, Scalar>& level, std::uint32_t m) {
-  const auto& rows = level.band_u;
-  ExplicitRow row;
-  row.constant = static_cast<double>(rows.constant[m]);
-  for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e)
-    row.terms.push_back({level.global(rows.column_field[e], rows.column_index[e]),
-                         static_cast<double>(rows.value[e])});
-  return row;
-}
-
 }  // namespace
 
 template <int Dim, typename Scalar>
@@ -54,8 +42,7 @@ NonAugmentedSystem<Dim> assemble_nonaugmented(const Level<Dim, Scalar>& level,
   Triplets a, g;
   // Galerkin band rows (galerkin_band_rows.hpp) are read from band_u, the rest from the builder.
   std::unordered_map<std::uint32_t, std::uint32_t> band_row;
-  if (level.galerkin_band_rows)
-    for (std::uint32_t m = 0; m < level.band_u.rows(); ++m) band_row[level.band_u.target[m]] = m;
+  if (level.galerkin_band_rows) band_row = rows_by_target(level.band_u);
   system.u_constant.setZero(nu);
   system.p_constant.setZero(np);
   system.inverse_pressure_diagonal.setZero(np);
@@ -65,7 +52,7 @@ NonAugmentedSystem<Dim> assemble_nonaugmented(const Level<Dim, Scalar>& level,
     const auto band = band_row.find(var);
     const ExplicitRow r = band == band_row.end()
                               ? builder.momentum(static_cast<int>(var / n), var % n)
-                              : band_row_terms(level, band->second);
+                              : stored_row(level, level.band_u, band->second);
     system.u_constant[row] = r.constant;
     for (const RowTerm& t : r.terms) {
       const std::int32_t col = index[t.variable];

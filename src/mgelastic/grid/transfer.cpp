@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <initializer_list>
+#include <type_traits>
 
 namespace mgelastic::grid {
 namespace {
@@ -289,18 +290,16 @@ BasicSample<V> combine(const BasicSample<V>& main, double w_main, const BasicSam
   return {cell_centered ? main.state : state, w_main * main.value + w_other * other.value};
 }
 
-// The correction's value: the coarse x (Dirichlet values are zero on coarse levels).
-template <int Dim, typename Scalar>
-double sample_value(const Level<Dim, Scalar>& coarse, int field, std::ptrdiff_t k, double*) {
-  return static_cast<double>(coarse.x[field][k]);
-}
-// The explicit row's value: the coarse variable itself, or nothing for a Dirichlet one (coarse
-// corrections vanish there).
-template <int Dim, typename Scalar>
-LinearCombination sample_value(const Level<Dim, Scalar>& coarse, int field, std::ptrdiff_t k,
-                               LinearCombination*) {
-  if (coarse.kind(field, k) == VarKind::DIRICHLET) return {};
-  return {{{coarse.global(field, k), 1.0}}};
+// A sample's value: for the correction the coarse x; for the explicit row the coarse variable
+// itself, or nothing for a Dirichlet one (coarse corrections vanish there).
+template <typename V, int Dim, typename Scalar>
+V sample_value(const Level<Dim, Scalar>& coarse, int field, std::ptrdiff_t k) {
+  if constexpr (std::is_same_v<V, double>) {
+    return static_cast<double>(coarse.x[field][k]);
+  } else {
+    if (coarse.kind(field, k) == VarKind::DIRICHLET) return {};
+    return {{{coarse.global(field, k), 1.0}}};
+  }
 }
 
 template <typename V, int Dim, typename Scalar>
@@ -312,9 +311,9 @@ BasicSample<V> coarse_sample(const Level<Dim, Scalar>& coarse, int field, const 
       return {};
 
     case VarKind::DIRICHLET:
-      return {S::DIRICHLET, sample_value(coarse, field, k, static_cast<V*>(nullptr))};
+      return {S::DIRICHLET, sample_value<V>(coarse, field, k)};
     default:
-      return {S::ACTIVE, sample_value(coarse, field, k, static_cast<V*>(nullptr))};
+      return {S::ACTIVE, sample_value<V>(coarse, field, k)};
   }
 }
 
