@@ -87,33 +87,44 @@ BandRunShape<Dim, Scalar> make_shape(const Level<Dim, Scalar>& level, const Step
       }
     }
   }
+  std::array<const std::array<double, G * G>*, kBandRunMaxLag> kept{};
   for (int lag = 1; lag < kBandRunMaxLength; ++lag) {
     const bool coupled =
         std::any_of(coupling[lag].begin(), coupling[lag].end(), [](double v) { return v != 0; });
     if (!coupled) continue;
     if (lag <= kBandRunMaxLag) {
       shape.lags = lag;
-      for (int i = 0; i < G * G; ++i)
-        shape.coupling[lag - 1][i] = static_cast<Scalar>(coupling[lag][i]);
+      kept[lag - 1] = &coupling[lag];
     } else {
       shape.max_length = std::min(shape.max_length, lag);
     }
   }
   if (step.cell_block) {
     std::copy_n(level.block_inverse(step.index), G * G, shape.weight.begin());
-    return shape;
-  }
-  // Point group: row a sees the earlier rows of its location, (D + L_0) delta = r0; W is its
-  // inverse, by forward substitution on the unit vectors.
-  const int g = step.members;
-  for (int col = 0; col < g; ++col) {
-    std::array<double, G> w{};
-    for (int a = 0; a < g; ++a) {
-      double rhs = a == col ? 1.0 : 0.0;
-      for (int b = 0; b < a; ++b) rhs -= coupling[0][a * G + b] * w[b];
-      w[a] = rhs / static_cast<double>(kernel.schur_diagonal[shape.pattern[a]]);
+  } else {
+    // Point group: row a sees the earlier rows of its location, (D + L_0) delta = r0; W is its
+    // inverse, by forward substitution on the unit vectors.
+    const int g = step.members;
+    for (int col = 0; col < g; ++col) {
+      std::array<double, G> w{};
+      for (int a = 0; a < g; ++a) {
+        double rhs = a == col ? 1.0 : 0.0;
+        for (int b = 0; b < a; ++b) rhs -= coupling[0][a * G + b] * w[b];
+        w[a] = rhs / static_cast<double>(kernel.schur_diagonal[shape.pattern[a]]);
+      }
+      for (int a = 0; a < g; ++a) shape.weight[a * G + col] = static_cast<Scalar>(w[a]);
     }
-    for (int a = 0; a < g; ++a) shape.weight[a * G + col] = static_cast<Scalar>(w[a]);
+  }
+  // A_j = W C_j, in double from the stored W.
+  for (int j = 0; j < kBandRunMaxLag; ++j) {
+    if (!kept[j]) continue;
+    for (int a = 0; a < G; ++a)
+      for (int b = 0; b < G; ++b) {
+        double sum = 0;
+        for (int c = 0; c < G; ++c)
+          sum += static_cast<double>(shape.weight[a * G + c]) * (*kept[j])[c * G + b];
+        shape.lag_response[j][a * G + b] = static_cast<Scalar>(sum);
+      }
   }
   return shape;
 }
@@ -311,8 +322,10 @@ void build_band_runs(Level<Dim, Scalar>& level) {
 
 namespace {
 
-// relax_band_run with the steps `stride` apart (Contiguous: 1, loads and stores vectorize).
-template <bool Contiguous, int Dim, typename Scalar>
+// relax_band_run for runs of M members with the steps `stride` apart (Contiguous: 1, loads and
+// stores vectorize). M is a template argument so that the recurrence's small matrices live in
+// registers.
+template <bool Contiguous, int M, int Dim, typename Scalar>
 void relax_run(const std::array<Scalar*, Dim + 1>& x, const BandKernel<Scalar>& kernel,
                const BandRunShape<Dim, Scalar>& shape, const BandRun& run,
                const std::uint32_t* rows) {
@@ -320,16 +333,11 @@ void relax_run(const std::array<Scalar*, Dim + 1>& x, const BandKernel<Scalar>& 
   constexpr int G = 2 * Dim;
   constexpr int K = kBandRunMaxLag;
   const int length = static_cast<int>(run.length);
-  const int members = shape.members;
   const std::uint32_t* run_rows = rows + run.first_row;
   // Pass 1: every member's residual at every step from the values before the run, summed in
   // the pattern's entry order like the step-by-step sweep.
-  alignas(32) Scalar r[G][kBandRunMaxLength];
-  for (int a = 0; a < G; ++a) {
-    if (a >= members) {
-      std::fill_n(r[a], length, Scalar(0));
-      continue;
-    }
+  alignas(32) Scalar r[M][kBandRunMaxLength];
+  for (int a = 0; a < M; ++a) {
     alignas(32) Scalar sum[kBandRunMaxLength] = {};
     const std::ptrdiff_t base = run.target + shape.offset[a];
     const std::uint32_t p = shape.pattern[a];
@@ -339,30 +347,39 @@ void relax_run(const std::array<Scalar*, Dim + 1>& x, const BandKernel<Scalar>& 
 #pragma omp simd
       for (int s = 0; s < length; ++s) sum[s] += value * xe[s * stride];
     }
-    for (int s = 0; s < length; ++s) r[a][s] = kernel.rhs[run_rows[s * members + a]] - sum[s];
+    for (int s = 0; s < length; ++s) r[a][s] = kernel.rhs[run_rows[s * M + a]] - sum[s];
   }
-  // Pass 2: the recurrence through the last J steps' deltas (delta[.][K + s] is step s).
-  alignas(32) Scalar delta[G][K + kBandRunMaxLength];
-  for (int a = 0; a < G; ++a)
+  // Pass 2: delta_s = W r0_s for every step (vectorized), then the recurrence
+  // delta_s -= A_1 delta_{s-1} + A_2 delta_{s-2} (delta[.][K + s] is step s).
+  alignas(32) Scalar delta[M][K + kBandRunMaxLength];
+  for (int a = 0; a < M; ++a) {
     for (int j = 0; j < K; ++j) delta[a][j] = 0;
-  const int lags = shape.lags;
-  for (int s = 0; s < length; ++s) {
-    Scalar rr[G];
-    for (int a = 0; a < G; ++a) rr[a] = r[a][s];
-    for (int j = 1; j <= lags; ++j) {
-      const Scalar* c = shape.coupling[j - 1].data();
-      for (int a = 0; a < G; ++a)
-        for (int b = 0; b < G; ++b) rr[a] -= c[a * G + b] * delta[b][K + s - j];
+    Scalar* __restrict d = delta[a] + K;
+    const Scalar* w = shape.weight.data() + a * G;
+#pragma omp simd
+    for (int s = 0; s < length; ++s) {
+      Scalar sum = 0;
+      for (int b = 0; b < M; ++b) sum += w[b] * r[b][s];
+      d[s] = sum;
     }
-    const Scalar* w = shape.weight.data();
-    for (int a = 0; a < G; ++a) {
-      Scalar d = 0;
-      for (int b = 0; b < G; ++b) d += w[a * G + b] * rr[b];
-      delta[a][K + s] = d;
+  }
+  Scalar response[K][M][M];
+  for (int j = 0; j < K; ++j)
+    for (int a = 0; a < M; ++a)
+      for (int b = 0; b < M; ++b) response[j][a][b] = shape.lag_response[j][a * G + b];
+  for (int s = 0; s < length; ++s) {
+    Scalar earlier[K][M];
+    for (int j = 0; j < K; ++j)
+      for (int b = 0; b < M; ++b) earlier[j][b] = delta[b][K + s - 1 - j];
+    for (int a = 0; a < M; ++a) {
+      Scalar far = 0, near = 0;
+      for (int b = 0; b < M; ++b) far += response[1][a][b] * earlier[1][b];
+      for (int b = 0; b < M; ++b) near += response[0][a][b] * earlier[0][b];
+      delta[a][K + s] -= far + near;
     }
   }
   // Pass 3: move every member's variable and keep its eliminated pressures exact.
-  for (int a = 0; a < members; ++a) {
+  for (int a = 0; a < M; ++a) {
     const std::ptrdiff_t base = run.target + shape.offset[a];
     const Scalar* __restrict d = delta[a] + K;
     Scalar* __restrict xa = x[shape.field[a]] + base;
@@ -378,6 +395,28 @@ void relax_run(const std::array<Scalar*, Dim + 1>& x, const BandKernel<Scalar>& 
   }
 }
 
+template <bool Contiguous, int Dim, typename Scalar>
+void relax_run_of(const std::array<Scalar*, Dim + 1>& x, const BandKernel<Scalar>& kernel,
+                  const BandRunShape<Dim, Scalar>& shape, const BandRun& run,
+                  const std::uint32_t* rows) {
+  switch (shape.members) {
+    case 1:
+      return relax_run<Contiguous, 1>(x, kernel, shape, run, rows);
+    case 2:
+      return relax_run<Contiguous, 2>(x, kernel, shape, run, rows);
+    case 3:
+      return relax_run<Contiguous, 3>(x, kernel, shape, run, rows);
+    case 4:
+      return relax_run<Contiguous, 4>(x, kernel, shape, run, rows);
+    default:
+      break;
+  }
+  if constexpr (Dim == 3) {
+    if (shape.members == 5) return relax_run<Contiguous, 5>(x, kernel, shape, run, rows);
+    return relax_run<Contiguous, 6>(x, kernel, shape, run, rows);
+  }
+}
+
 }  // namespace
 
 template <int Dim, typename Scalar>
@@ -385,9 +424,9 @@ void relax_band_run(const std::array<Scalar*, Dim + 1>& x, const BandKernel<Scal
                     const BandRunShape<Dim, Scalar>& shape, const BandRun& run,
                     const std::uint32_t* rows) {
   if (run.stride == 1)
-    relax_run<true>(x, kernel, shape, run, rows);
+    relax_run_of<true>(x, kernel, shape, run, rows);
   else
-    relax_run<false>(x, kernel, shape, run, rows);
+    relax_run_of<false>(x, kernel, shape, run, rows);
 }
 
 #define MGELASTIC_INSTANTIATE(D, S)                                                      \

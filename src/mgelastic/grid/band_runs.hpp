@@ -13,10 +13,13 @@
 // member a's residual per unit delta of member b j steps earlier (through b's own variable and
 // its eliminated pressures), and W = S_loc^-1 for a cell block or (D + L_0)^-1 (forward
 // substitution over the location's rows, L_0 = couplings to earlier rows of the same step) for a
-// point group. So a run is relaxed in three passes: all r0 (contiguous along x, vectorized), the
-// recurrence (small dense matrices), all moves (vectorized). The deltas equal those of the
-// step-by-step sweep up to round-off. Shapes whose couplings reach further than kMaxLag steps cap
-// their runs below that reach, so every coupling inside a run is one of C_1..C_J.
+// point group. Hence delta_s = W r0_s - sum_j A_j delta_{s-j} with A_j = W C_j, formed once per
+// shape. So a run is relaxed in three passes: all r0 and W r0 (contiguous along x, vectorized),
+// the recurrence (two small dense products per step, with the member count a template argument
+// so they stay in registers; the lag-2 product is off the step-to-step dependency chain), all
+// moves (vectorized). The deltas equal those of the step-by-step sweep up to round-off. Shapes
+// whose couplings reach further than kMaxLag steps cap their runs below that reach, so every
+// coupling inside a run is one of C_1..C_J.
 //
 // Runs along y: where the band is only a few cells thick in x (faces across x), a block's steps
 // off the x-runs, taken with y fastest, form runs one lattice row apart (stride n_x; passes 1
@@ -54,7 +57,8 @@ struct BandRunShape {
   std::array<std::uint8_t, G> field{};
   std::array<std::int32_t, G> offset{};  // member target - member 0's target
   std::array<Scalar, G * G> weight{};    // W, row-major, zero outside members x members
-  std::array<std::array<Scalar, G * G>, kBandRunMaxLag> coupling{};  // C_1..C_J, row-major
+  // A_j = W C_j, row-major, zero for j > J: delta_s = W r0_s - sum_j A_j delta_{s-j}.
+  std::array<std::array<Scalar, G * G>, kBandRunMaxLag> lag_response{};
 };
 
 struct BandRun {
