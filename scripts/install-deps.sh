@@ -8,6 +8,7 @@ packages=(
   libeigen3-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libsuitesparse-dev libhypre-dev
+  libopenblas0-openmp  # the BLAS under CHOLMOD/UMFPACK (Debian's alternatives pick it over the reference BLAS)
   python3 python3-dev ccache zlib1g-dev libdeflate-dev
   pybind11-dev python3-numpy python3-pytest python3-matplotlib  # Python module, its tests, plots
   tetgen  # executable only (AGPL, never linked): TetMultigrid.RateOnTetGenMeshesOfSeveralSizes

@@ -1,6 +1,8 @@
+#include <dlfcn.h>
 #include <gtest/gtest.h>
 
 #include "grid_test_support.hpp"
+#include "mgelastic/core/blas_threads.hpp"
 #include "mgelastic/core/threads.hpp"
 #include "mgelastic/grid/box_problem.hpp"
 #include "mgelastic/grid/coarsening.hpp"
@@ -44,6 +46,23 @@ TEST(Threads, FloatCyclesDoNotDependOnThreadCount) {
   ASSERT_EQ(serial.size(), parallel.size());
   for (std::size_t i = 0; i < serial.size(); ++i)
     ASSERT_EQ(serial[i], parallel[i]) << "entry " << i;
+}
+
+// A multithreaded BLAS (OpenBLAS built with OpenMP follows the OpenMP thread count) would split
+// the coarse factorization's dense kernels by thread count, and the test above would fail. The
+// solver puts it on one thread. Skipped where the BLAS has no thread count (reference BLAS).
+TEST(Threads, CoarseFactorizationRunsOnOneBlasThread) {
+  using GetThreads = int (*)();
+  const auto get = reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+  if (!get) GTEST_SKIP() << "the loaded BLAS is not OpenBLAS";
+  set_thread_count(2);
+  BoxSpec spec;
+  spec.cells = 16;
+  const Multigrid<3, double> mg(make_box_problem<3>(spec));
+  const int blas_threads = get();
+  set_thread_count(0);
+  EXPECT_TRUE(use_single_threaded_blas());
+  EXPECT_EQ(blas_threads, 1);
 }
 
 // The threads build a level's relaxation classes and band rows in lattice ranges, joined in

@@ -3,6 +3,7 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/UmfPackSupport>
 
+#include "mgelastic/core/blas_threads.hpp"
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/grid/boundary_smoother.hpp"
 #include "mgelastic/grid/nonaugmented_system.hpp"
@@ -41,6 +42,7 @@ CoarseSolver<Dim, Scalar>::CoarseSolver(const Level<Dim, Scalar>& level)
     throw Error("the coarsest grid level has no interior variable", {.pointer = "grid"});
   // Quiet: a failed factorization is reported by the exception below (or handled by the caller).
   m_impl->cholesky.cholmod().print = 0;
+  const SingleThreadedBlas one_blas_thread;  // results independent of the thread count
   if (level.galerkin_band_rows) {
     m_impl->use_lu = true;
     m_impl->lu.compute(m_impl->system.matrix);
@@ -76,6 +78,7 @@ CoarseSolver<Dim, Scalar>& CoarseSolver<Dim, Scalar>::operator=(CoarseSolver&&) 
 template <int Dim, typename Scalar>
 void CoarseSolver<Dim, Scalar>::solve(Level<Dim, Scalar>& level) const {
   const Eigen::VectorXd rhs = m_impl->system.right_hand_side(level);
+  const SingleThreadedBlas one_blas_thread;
   const Eigen::VectorXd u = m_impl->use_lu ? Eigen::VectorXd(m_impl->lu.solve(rhs))
                                            : Eigen::VectorXd(m_impl->cholesky.solve(rhs));
   m_impl->system.scatter(u, level);

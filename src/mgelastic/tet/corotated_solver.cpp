@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "mgelastic/core/blas_threads.hpp"
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/timer.hpp"
 
@@ -138,6 +139,7 @@ void CorotatedSolver::solve(double mass_scale, double stiffness_scale, const Eig
     solve_multigrid(b, unknown, stats);
   } else {
     const Eigen::SparseMatrix<double> a = system.to_sparse();
+    const SingleThreadedBlas one_blas_thread;  // results independent of the thread count
     if (!m_cholesky->analyzed) m_cholesky->factorization.analyzePattern(a);
     m_cholesky->analyzed = true;
     m_cholesky->factorization.factorize(a);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include "mgelastic/core/blas_threads.hpp"
 #include "mgelastic/core/cancellation.hpp"
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/timer.hpp"
@@ -164,6 +165,7 @@ void TetMultigrid::finish_coarse_update() {
   Eigen::SparseMatrix<double> coarsest = m_levels.back().matrix.to_sparse();
   if (level_count() > 1)
     for (int i = 0; i < coarsest.rows(); ++i) coarsest.coeffRef(i, i) *= 1.0 + kCoarsestShift;
+  const SingleThreadedBlas one_blas_thread;  // results independent of the thread count
   if (!m_coarsest->analyzed) {
     m_coarsest->factorization.analyzePattern(coarsest);
     m_coarsest->analyzed = true;
@@ -239,6 +241,7 @@ void TetMultigrid::cycle_level(int l, std::vector<LevelResiduals>* trace,
   record(&LevelResiduals::entry);
   if (l == level_count() - 1) {
     // Coarsest: exact solve.
+    const SingleThreadedBlas one_blas_thread;
     level.x = m_coarsest->factorization.solve(level.b);
     return;
   }
