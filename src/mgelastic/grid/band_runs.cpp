@@ -87,17 +87,11 @@ BandRunShape<Dim, Scalar> make_shape(const Level<Dim, Scalar>& level, const Step
       }
     }
   }
-  std::array<const std::array<double, G * G>*, kBandRunMaxLag> kept{};
-  for (int lag = 1; lag < kBandRunMaxLength; ++lag) {
+  // Couplings beyond kBandRunMaxLag steps cap the run below them; the others enter A_j below.
+  for (int lag = kBandRunMaxLag + 1; lag < kBandRunMaxLength; ++lag) {
     const bool coupled =
         std::any_of(coupling[lag].begin(), coupling[lag].end(), [](double v) { return v != 0; });
-    if (!coupled) continue;
-    if (lag <= kBandRunMaxLag) {
-      shape.lags = lag;
-      kept[lag - 1] = &coupling[lag];
-    } else {
-      shape.max_length = std::min(shape.max_length, lag);
-    }
+    if (coupled) shape.max_length = std::min(shape.max_length, lag);
   }
   if (step.cell_block) {
     std::copy_n(level.block_inverse(step.index), G * G, shape.weight.begin());
@@ -115,17 +109,15 @@ BandRunShape<Dim, Scalar> make_shape(const Level<Dim, Scalar>& level, const Step
       for (int a = 0; a < g; ++a) shape.weight[a * G + col] = static_cast<Scalar>(w[a]);
     }
   }
-  // A_j = W C_j, in double from the stored W.
-  for (int j = 0; j < kBandRunMaxLag; ++j) {
-    if (!kept[j]) continue;
+  // A_j = W C_j, in double from the stored W (zero where step s - j does not couple).
+  for (int j = 1; j <= kBandRunMaxLag; ++j)
     for (int a = 0; a < G; ++a)
       for (int b = 0; b < G; ++b) {
         double sum = 0;
         for (int c = 0; c < G; ++c)
-          sum += static_cast<double>(shape.weight[a * G + c]) * (*kept[j])[c * G + b];
-        shape.lag_response[j][a * G + b] = static_cast<Scalar>(sum);
+          sum += static_cast<double>(shape.weight[a * G + c]) * coupling[j][c * G + b];
+        shape.lag_response[j - 1][a * G + b] = static_cast<Scalar>(sum);
       }
-  }
   return shape;
 }
 

@@ -51,13 +51,12 @@ template <int Dim, typename Scalar>
 struct BandRunShape {
   static constexpr int G = 2 * Dim;  // members at most (a cell block's faces)
   int members = 0;
-  int lags = 0;  // J: the largest lag <= kBandRunMaxLag with a non-zero coupling
   int max_length = kBandRunMaxLength;      // below the smallest non-zero lag > kBandRunMaxLag
   std::array<std::uint32_t, G> pattern{};  // BandKernel pattern of each member
   std::array<std::uint8_t, G> field{};
   std::array<std::int32_t, G> offset{};  // member target - member 0's target
   std::array<Scalar, G * G> weight{};    // W, row-major, zero outside members x members
-  // A_j = W C_j, row-major, zero for j > J: delta_s = W r0_s - sum_j A_j delta_{s-j}.
+  // A_j = W C_j for j = 1..kBandRunMaxLag, row-major: delta_s = W r0_s - sum_j A_j delta_{s-j}.
   std::array<std::array<Scalar, G * G>, kBandRunMaxLag> lag_response{};
 };
 
