@@ -433,8 +433,10 @@ nlohmann::json mesh_vcycle(const std::string& file, int resolution, const BoxBen
           {{"box",
             {{"center", {center.x(), lo.y(), center.z()}},
              {"size", {2 * extent.x(), 0.1 * extent.y(), 2 * extent.z()}}}}}}}}}};
+  const Timer scene_timer;  // voxelization, cell types, loads: what precedes the solver's setup
   const scene::GridSetup setup =
       scene::build_grid_setup(scene::parse_scene(document, "bench.json", "."));
+  const double scene_seconds = scene_timer.seconds();
   grid::MultigridOptions options = multigrid_options(o);
   if (o.band_layers < 0) options.band_layers = 1;  // the scenes' default
   const Timer setup_timer;
@@ -460,7 +462,8 @@ nlohmann::json mesh_vcycle(const std::string& file, int resolution, const BoxBen
                            {"rate", grid::convergence_rate(report.residuals, floor)},
                            {"last_ratio", grid::last_ratio(report.residuals, floor)},
                            {"rate_settled", grid::rate_settled(report.residuals, floor)},
-                           {"setup_seconds", setup_seconds}};
+                           {"setup_seconds", setup_seconds},
+                           {"scene_seconds", scene_seconds}};
   add_cycle_fields(record, mg, report, o.triad_gb_per_s);
   add_residual_blocks(record, mg, o.residual_blocks);
   record["vcycle_cpu_seconds"] = cycle_cpu;
@@ -548,6 +551,13 @@ void print_profile_summary(const nlohmann::json& records, const BoxBenchOptions&
   for (const auto& r : records) std::printf(" | %9.1f", r["peak_rss_bytes"].get<double>() / 1e6);
   std::printf("\n%-20s", "solver setup (s)");
   for (const auto& r : records) std::printf(" | %9.2f", r["setup_seconds"].get<double>());
+  if (std::any_of(records.begin(), records.end(),
+                  [](const nlohmann::json& r) { return r.contains("scene_seconds"); })) {
+    std::printf("\n%-20s", "scene, voxels (s)");
+    for (const auto& r : records)
+      r.contains("scene_seconds") ? (void)std::printf(" | %9.2f", r["scene_seconds"].get<double>())
+                                  : (void)std::printf(" | %9s", "-");
+  }
   std::printf("\n%-20s", "levels");
   for (const auto& r : records) std::printf(" | %9d", r["levels"].get<int>());
   std::printf("\n%-20s", "bytes per unknown");

@@ -127,6 +127,37 @@ TEST(MeshShape, MeshWithHolesIsClassifiedAndReported) {
   }
 }
 
+// signed_distance_near gives signed_distance's value. On a closed mesh it may take the side of
+// the neighbor; next to a hole w changes through the hole, so there it may not: points just
+// outside and just inside a removed triangle are on different sides (w ~ 0.35 / 0.65) while
+// their surface-free balls overlap through the hole.
+TEST(MeshShape, SignedDistanceNearEqualsSignedDistance) {
+  const TriangleMesh closed = make_icosphere(3);
+  const ShapePtr sphere = make_mesh_shape(closed, "sphere");
+  std::mt19937 rng(21);
+  for (int n = 0; n < 4000; ++n) {
+    const Point q = random_point(rng, 1.3);
+    const Point p = q + random_point(rng, 0.1);
+    EXPECT_EQ(sphere->signed_distance_near(p, q, sphere->signed_distance(q)),
+              sphere->signed_distance(p))
+        << p << " near " << q;
+  }
+  const ShapePtr holed = make_mesh_shape(test::remove_triangles(closed, {0}), "hole");
+  const Eigen::Vector3i t = closed.triangles.row(0).transpose();
+  const Point a = closed.vertices.row(t[0]), b = closed.vertices.row(t[1]),
+              c = closed.vertices.row(t[2]);
+  const Point center = (a + b + c) / 3.0;
+  const Point normal = (b - a).cross(c - a).normalized();  // outward (icospheres are)
+  const double size = (b - a).norm();
+  const Point outside = center + 0.2 * size * normal, inside = center - 0.2 * size * normal;
+  ASSERT_FALSE(holed->contains(outside));
+  ASSERT_TRUE(holed->contains(inside));
+  const double d_out = holed->signed_distance(outside), d_in = holed->signed_distance(inside);
+  ASSERT_LT((outside - inside).norm(), std::abs(d_out) + std::abs(d_in));  // the balls overlap
+  EXPECT_EQ(holed->signed_distance_near(outside, inside, d_in), d_out);
+  EXPECT_EQ(holed->signed_distance_near(inside, outside, d_out), d_in);
+}
+
 // Non-manifold edges: two boxes sharing an edge, welded by an STL round-trip. Accepted, reported.
 TEST(MeshShape, NonManifoldEdgesAreAcceptedAndReported) {
   const TriangleMesh a = make_box_mesh(Point(0, 0, 0), Point(1, 1, 1), 2);

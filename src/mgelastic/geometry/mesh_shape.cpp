@@ -39,6 +39,8 @@ MeshShape::MeshShape(TriangleMesh mesh, std::string source) : m_source(std::move
     m_facts.signed_volume = -m_facts.signed_volume;
     m_flipped = true;
   }
+  m_sides_constant = m_facts.boundary_edges == 0 && m_facts.non_manifold_edges == 0 &&
+                     m_facts.inconsistent_edges == 0;
   m_bvh = std::make_shared<const TriangleBvh>(mesh);
   m_winding = std::make_unique<const WindingNumber>(m_bvh);
   reject_ambiguous_winding();
@@ -67,11 +69,30 @@ void MeshShape::reject_ambiguous_winding() const {
 }
 
 double MeshShape::unsigned_distance(const Point& p) const {
-  return std::sqrt(m_bvh->closest_triangle(p).squared_distance);
+  // Queries come in runs of nearby points (voxelization rows, a cell's samples): each thread's
+  // last closest triangle of this shape seeds its next search (the distance does not depend on
+  // it, see TriangleBvh::closest_triangle).
+  thread_local const MeshShape* last_shape = nullptr;
+  thread_local int last_position = -1;
+  const ClosestTriangle closest =
+      m_bvh->closest_triangle(p, last_shape == this ? last_position : -1);
+  last_shape = this;
+  last_position = closest.position;
+  return std::sqrt(closest.squared_distance);
 }
 
 double MeshShape::signed_distance(const Point& p) const {
   const double d = unsigned_distance(p);
+  return contains(p) ? -d : d;
+}
+
+double MeshShape::signed_distance_near(const Point& p, const Point& q, double known) const {
+  const double d = unsigned_distance(p);
+  // The relative margin keeps the rounding of the two distances from joining balls that only
+  // touch (at a surface point between p and q).
+  constexpr double kMargin = 1.0 - 1e-6;
+  if (m_sides_constant && (p - q).norm() < kMargin * (d + std::abs(known)))
+    return std::signbit(known) ? -d : d;
   return contains(p) ? -d : d;
 }
 

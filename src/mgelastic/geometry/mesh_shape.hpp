@@ -37,6 +37,11 @@ class MeshShape : public Shape {
   MeshShape(TriangleMesh mesh, std::string source);
 
   double signed_distance(const Point& p) const override;
+  // On a closed, edge-manifold, consistently oriented mesh w is an integer constant on each
+  // piece of space the surface bounds, so where the balls |x - p| < d(p) and |x - q| < |d(q)|
+  // (both free of the surface) overlap, p lies on q's side and its winding number is skipped.
+  // Other meshes, whose w varies continuously through holes, always evaluate it.
+  double signed_distance_near(const Point& p, const Point& q, double known) const override;
   bool contains(const Point& p) const override { return winding_number(p) > 0.5; }
   BoundingBox bounding_box() const override { return m_facts.bounding_box; }
 
@@ -52,6 +57,7 @@ class MeshShape : public Shape {
   std::string m_source;
   MeshFacts m_facts;
   bool m_flipped = false;
+  bool m_sides_constant = false;  // closed, edge-manifold, consistently oriented
   std::shared_ptr<const TriangleBvh> m_bvh;
   std::unique_ptr<const WindingNumber> m_winding;
 };

@@ -16,6 +16,12 @@ class Shape {
   // Signed distance to the boundary (negative inside). Exact for primitives; CSG combinations
   // return the usual min/max bound, which is exact outside of concave creases.
   virtual double signed_distance(const Point& p) const = 0;
+  // signed_distance(p), given `known` = signed_distance(q) at a point q nearby (a voxelization
+  // row's previous query): a shape may take p's side from q's where the two points' surface-free
+  // balls overlap. The value is signed_distance(p)'s either way.
+  virtual double signed_distance_near(const Point& p, const Point& /*q*/, double /*known*/) const {
+    return signed_distance(p);
+  }
   virtual bool contains(const Point& p) const { return signed_distance(p) <= 0.0; }
   // A box containing the whole region.
   virtual BoundingBox bounding_box() const = 0;

@@ -92,9 +92,15 @@ int TriangleBvh::build(int first, int count, int leaf_size, int depth) {
   return id;
 }
 
-ClosestTriangle TriangleBvh::closest_triangle(const Point& p) const {
+ClosestTriangle TriangleBvh::closest_triangle(const Point& p, int hint) const {
+  const auto candidate = [&](int i) {
+    const Eigen::Vector3d q = closest_point_on_triangle(p, m_triangles[i]);
+    return ClosestTriangle{(q - p).squaredNorm(), m_original[i], q, i};
+  };
   ClosestTriangle best;
   best.squared_distance = std::numeric_limits<double>::infinity();
+  // Along a voxelization row the closest triangle changes rarely: its distance prunes most nodes.
+  if (hint >= 0 && hint < static_cast<int>(m_triangles.size())) best = candidate(hint);
   std::array<int, MAX_DEPTH> stack;
   int top = 0;
   stack[top++] = 0;
@@ -103,9 +109,8 @@ ClosestTriangle TriangleBvh::closest_triangle(const Point& p) const {
     if (node.box.squaredExteriorDistance(p) >= best.squared_distance) continue;
     if (node.is_leaf()) {
       for (int i = node.first; i < node.first + node.count; ++i) {
-        const Eigen::Vector3d q = closest_point_on_triangle(p, m_triangles[i]);
-        const double d2 = (q - p).squaredNorm();
-        if (d2 < best.squared_distance) best = ClosestTriangle{d2, m_original[i], q};
+        const ClosestTriangle c = candidate(i);
+        if (c.squared_distance < best.squared_distance) best = c;
       }
       continue;
     }

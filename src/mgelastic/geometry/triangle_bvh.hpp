@@ -24,6 +24,7 @@ struct ClosestTriangle {
   double squared_distance = 0.0;
   int triangle = -1;  // row in the input mesh
   Point point = Point::Zero();
+  int position = -1;  // index into TriangleBvh::triangles(): a hint for the next query
 };
 
 class TriangleBvh {
@@ -45,8 +46,10 @@ class TriangleBvh {
   const std::vector<Triangle>& triangles() const { return m_triangles; }
   const std::vector<int>& original_index() const { return m_original; }
 
-  // Exact closest point of the surface to p; thread-safe.
-  ClosestTriangle closest_triangle(const Point& p) const;
+  // Exact closest point of the surface to p; thread-safe. `hint` (a position from an earlier
+  // answer, e.g. at a neighboring point) only seeds the search bound: the distance returned is
+  // the same with or without it (on ties the triangle may be the hint's).
+  ClosestTriangle closest_triangle(const Point& p, int hint = -1) const;
 
  private:
   int build(int first, int count, int leaf_size, int depth);
