@@ -193,11 +193,27 @@ void build_band_runs(Level<Dim, Scalar>& level) {
   std::unordered_map<std::string, std::uint32_t> ids;
   std::string key;
   const std::ptrdiff_t across = level.lattice.stride(1);
+  // A shape's couplings and weights are formed when a run needs them: on a curved band most
+  // steps are alone with their shape (see drop_shapes_off_runs), and so are most on the
+  // coarse levels, whose weighted rows seldom repeat.
+  std::vector<std::pair<Step<Dim>, std::ptrdiff_t>> first_step;  // per key id
+  std::vector<std::uint32_t> shape_index;  // per key id: its runs.shapes entry, once formed
   auto shape_id = [&](const Step<Dim>& step, std::ptrdiff_t stride) {
     shape_key(level, step, stride, key);
     const auto [it, added] = ids.try_emplace(key, static_cast<std::uint32_t>(ids.size()));
-    if (added) runs.shapes.push_back(make_shape(level, step, stride));
+    if (added) {
+      first_step.emplace_back(step, stride);
+      shape_index.push_back(UINT32_MAX);
+    }
     return it->second;
+  };
+  // The runs.shapes entry of key id, formed on first use.
+  auto shape = [&](std::uint32_t id) {
+    if (shape_index[id] == UINT32_MAX) {
+      shape_index[id] = static_cast<std::uint32_t>(runs.shapes.size());
+      runs.shapes.push_back(make_shape(level, first_step[id].first, first_step[id].second));
+    }
+    return shape_index[id];
   };
   // Greedy maximal runs: length[i] > 0 where a sequence of equally shaped steps `stride` apart
   // starts (shorter than kBandRunMinLength: relaxed step by step), 0 inside one.
@@ -207,10 +223,9 @@ void build_band_runs(Level<Dim, Scalar>& level) {
     for (std::size_t i = 0; i < steps.size(); ++i) shape_of[i] = shape_id(steps[i], stride);
     std::vector<std::size_t> length(steps.size(), 0);
     for (std::size_t i = 0; i < steps.size();) {
-      const auto& shape = runs.shapes[shape_of[i]];
       std::size_t end = i + 1;
       while (end < steps.size() && shape_of[end] == shape_of[i] &&
-             static_cast<int>(end - i) < shape.max_length &&
+             static_cast<int>(end - i) < runs.shapes[shape(shape_of[i])].max_length &&
              step_target(level, steps[end]) == step_target(level, steps[end - 1]) + stride)
         ++end;
       length[i] = end - i;
@@ -226,16 +241,16 @@ void build_band_runs(Level<Dim, Scalar>& level) {
     const std::vector<std::size_t> length = find_runs(steps, stride, shape_of);
     for (std::size_t i = 0; i < steps.size(); i += length[i]) {
       const std::size_t end = i + length[i];
-      const auto& shape = runs.shapes[shape_of[i]];
+      const int members = steps[i].members;  // the shape's (equal keys, equal members)
       const bool run = static_cast<int>(length[i]) >= kBandRunMinLength;
       runs.steps += length[i];
-      runs.row_relaxations += length[i] * shape.members;
+      runs.row_relaxations += length[i] * members;
       if (run) {
         runs.steps_in_runs += length[i];
-        runs.row_relaxations_in_runs += length[i] * shape.members;
+        runs.row_relaxations_in_runs += length[i] * members;
         items.push_back(static_cast<std::uint32_t>(BandItem::RUN) |
                         static_cast<std::uint32_t>(runs.runs.size()));
-        runs.runs.push_back({shape_of[i], static_cast<std::uint32_t>(length[i]),
+        runs.runs.push_back({shape(shape_of[i]), static_cast<std::uint32_t>(length[i]),
                              static_cast<std::uint32_t>(runs.rows.size()),
                              step_target(level, steps[i]), stride});
         for (std::size_t s = i; s < end; ++s)
