@@ -71,13 +71,28 @@ CellCoords<Dim> corner_cell(const CellCoords<Dim>& corner, int bits) {
   return c;
 }
 
+// Whether the 2^d block whose lower corner is `corner` is fully occupied.
 template <int Dim>
-int occupied_corners(const CellCoords<Dim>& dims, const std::vector<std::uint8_t>& occupied,
-                     const CellCoords<Dim>& corner) {
-  int count = 0;
+bool full_block(const CellCoords<Dim>& dims, const std::vector<std::uint8_t>& occupied,
+                const CellCoords<Dim>& corner) {
   for (int bits = 0; bits < (1 << Dim); ++bits)
-    count += occupied[flat<Dim>(dims, corner_cell<Dim>(corner, bits))] != 0;
-  return count;
+    if (!occupied[flat<Dim>(dims, corner_cell<Dim>(corner, bits))]) return false;
+  return true;
+}
+
+// Calls visit(k, c) for every cell of a box of `dims` in storage order (x fastest), its
+// coordinates counted along instead of divided out of k (unflat's divisions made the passes
+// over every block position of a 256-cell lattice a good part of the voxelization).
+template <int Dim, typename Visit>
+void for_each_cell(const CellCoords<Dim>& dims, Visit&& visit) {
+  if ((dims.array() <= 0).any()) return;
+  std::size_t count = 1;
+  for (int a = 0; a < Dim; ++a) count *= static_cast<std::size_t>(dims[a]);
+  CellCoords<Dim> c = CellCoords<Dim>::Zero();
+  for (std::size_t k = 0; k < count; ++k) {
+    visit(k, static_cast<const CellCoords<Dim>&>(c));
+    for (int a = 0; a < Dim && ++c[a] == dims[a]; ++a) c[a] = 0;
+  }
 }
 
 }  // namespace rigid_blocks_detail
@@ -94,15 +109,13 @@ int thicken_to_full_blocks(const CellCoords<Dim>& dims, std::vector<std::uint8_t
   int cells_per_block = 1;
   for (int a = 0; a < Dim; ++a) cells_per_block *= size;
   // Offset number q -> offset vector in [0, size)^Dim, x fastest.
-  const auto offset = [&](int q) {
-    CellCoords<Dim> o;
-    for (int a = 0; a < Dim; ++a) o[a] = q % size, q /= size;
-    return o;
-  };
+  std::vector<CellCoords<Dim>> offsets(static_cast<std::size_t>(cells_per_block));
+  for (int q = 0; q < cells_per_block; ++q)
+    for (int a = 0, rest = q; a < Dim; ++a) offsets[q][a] = rest % size, rest /= size;
+  const auto offset = [&](int q) { return offsets[static_cast<std::size_t>(q)]; };
   int added = 0;
-  for (std::size_t k = 0; k < occupied.size(); ++k) {
-    if (!occupied[k]) continue;
-    const CellCoords<Dim> cell = d::unflat<Dim>(dims, k);
+  d::for_each_cell<Dim>(dims, [&](std::size_t k, const CellCoords<Dim>& cell) {
+    if (!occupied[k]) return;
     CellCoords<Dim> best = CellCoords<Dim>::Constant(-1);
     int best_count = -1;
     bool full = false;
@@ -115,13 +128,13 @@ int thicken_to_full_blocks(const CellCoords<Dim>& dims, std::vector<std::uint8_t
       full = count == cells_per_block;
       if (count > best_count) best_count = count, best = corner;
     }
-    if (full || best_count < 0) continue;
+    if (full || best_count < 0) return;
     for (int q = 0; q < cells_per_block; ++q) {
       std::uint8_t& o = occupied[d::flat<Dim>(dims, CellCoords<Dim>(best + offset(q)))];
       added += o == 0;
       o = 1;
     }
-  }
+  });
   return added;
 }
 
@@ -168,8 +181,9 @@ int connect_full_blocks(const CellCoords<Dim>& dims, std::vector<std::uint8_t>& 
 
   // Unions of full blocks (union-find), joined across shared halves.
   std::vector<std::uint8_t> full(blocks, 0);
-  for (std::size_t q = 0; q < blocks; ++q)
-    full[q] = d::occupied_corners<Dim>(dims, occupied, d::unflat<Dim>(m, q)) == corners;
+  d::for_each_cell<Dim>(m, [&](std::size_t q, const CellCoords<Dim>& corner) {
+    full[q] = d::full_block<Dim>(dims, occupied, corner);
+  });
   std::vector<std::uint32_t> parent(blocks);
   std::iota(parent.begin(), parent.end(), 0u);
   const auto find = [&](std::uint32_t x) {
@@ -181,14 +195,14 @@ int connect_full_blocks(const CellCoords<Dim>& dims, std::vector<std::uint8_t>& 
     const std::uint32_t rb = find(static_cast<std::uint32_t>(b));
     if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
   };
-  for (std::size_t q = 0; q < blocks; ++q) {
-    if (!full[q]) continue;
+  d::for_each_cell<Dim>(m, [&](std::size_t q, const CellCoords<Dim>& corner) {
+    if (!full[q]) return;
     for (int a = 0; a < Dim; ++a) {
-      CellCoords<Dim> c = d::unflat<Dim>(m, q);
+      CellCoords<Dim> c = corner;
       c[a] += 1;
       if (d::inside<Dim>(m, c) && full[d::flat<Dim>(m, c)]) unite(q, d::flat<Dim>(m, c));
     }
-  }
+  });
   // Blocks of each union (keyed by its root), the number of unions and the largest per piece.
   std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> members;
   for (std::size_t q = 0; q < blocks; ++q)
