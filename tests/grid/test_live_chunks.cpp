@@ -36,13 +36,42 @@ ElasticityProblem<3> ball_problem(int n, double poisson_ratio) {
   return problem;
 }
 
+// Pages in the address stretches that are present and mapped by this process alone.
+long mapped_pages(const std::vector<std::pair<std::uintptr_t, std::uintptr_t>>& stretches) {
+  const int fd = open("/proc/self/pagemap", O_RDONLY);
+  if (fd < 0) return -1;
+  const auto page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
+  long mapped = 0;
+  for (const auto& [begin, end] : stretches)
+    for (std::uintptr_t p = begin; p < end; p += page) {
+      std::uint64_t entry = 0;
+      if (pread(fd, &entry, sizeof entry, static_cast<off_t>(p / page * sizeof entry)) !=
+          sizeof entry) {
+        close(fd);
+        return -1;
+      }
+      const bool present = (entry >> 63) & 1, exclusive = (entry >> 56) & 1;
+      mapped += present && exclusive;
+    }
+  close(fd);
+  return mapped;
+}
+
 // Whether a read of a never-written anonymous page maps the shared zero page (no memory of its
 // own), as the release of dead pages assumes. Some kernels give every read fault a page of its
 // own (seen: Linux 6.18 on the project's virtual machines, 2026-12-06); there a released page
 // that a kernel reads (a stencil's neighbour, a zero load) holds memory again, and the page
 // table cannot tell it from a written one.
-bool reads_map_the_zero_page();
-long mapped_pages(const std::vector<std::pair<std::uintptr_t, std::uintptr_t>>& stretches);
+bool reads_map_the_zero_page() {
+  const auto page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+  void* p = mmap(nullptr, page, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (p == MAP_FAILED) return false;
+  const char value = *static_cast<const volatile char*>(p);
+  const auto begin = reinterpret_cast<std::uintptr_t>(p);
+  const long mapped = value == 0 ? mapped_pages({{begin, begin + page}}) : -1;
+  munmap(p, page);
+  return mapped == 0;
+}
 
 // Pages in the address stretches that are mapped to memory of their own (written since they
 // were released); reading a released page maps the shared zero page, which holds none. -1 where
@@ -56,37 +85,6 @@ long written_pages(const std::vector<std::pair<std::uintptr_t, std::uintptr_t>>&
 constexpr const char* kNoPageTable =
     "the page table cannot tell released pages that were read from written ones here "
     "(/proc/self/pagemap unreadable, or read faults map pages of their own)";
-
-long mapped_pages(const std::vector<std::pair<std::uintptr_t, std::uintptr_t>>& stretches) {
-  const int fd = open("/proc/self/pagemap", O_RDONLY);
-  if (fd < 0) return -1;
-  const auto page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
-  long written = 0;
-  for (const auto& [begin, end] : stretches)
-    for (std::uintptr_t p = begin; p < end; p += page) {
-      std::uint64_t entry = 0;
-      if (pread(fd, &entry, sizeof entry, static_cast<off_t>(p / page * sizeof entry)) !=
-          sizeof entry) {
-        close(fd);
-        return -1;
-      }
-      const bool present = (entry >> 63) & 1, exclusive = (entry >> 56) & 1;
-      written += present && exclusive;
-    }
-  close(fd);
-  return written;
-}
-
-bool reads_map_the_zero_page() {
-  const auto page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
-  void* p = mmap(nullptr, page, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-  if (p == MAP_FAILED) return false;
-  const char value = *static_cast<const volatile char*>(p);
-  const auto begin = reinterpret_cast<std::uintptr_t>(p);
-  const long mapped = value == 0 ? mapped_pages({{begin, begin + page}}) : -1;
-  munmap(p, page);
-  return mapped == 0;
-}
 
 // Pages of v that overlap no live chunk and were written since they were released.
 template <typename T>

@@ -90,7 +90,7 @@ void for_each_cell(const CellCoords<Dim>& dims, Visit&& visit) {
   for (int a = 0; a < Dim; ++a) count *= static_cast<std::size_t>(dims[a]);
   CellCoords<Dim> c = CellCoords<Dim>::Zero();
   for (std::size_t k = 0; k < count; ++k) {
-    visit(k, static_cast<const CellCoords<Dim>&>(c));
+    visit(k, c);
     for (int a = 0; a < Dim && ++c[a] == dims[a]; ++a) c[a] = 0;
   }
 }

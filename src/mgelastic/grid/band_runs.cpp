@@ -339,6 +339,7 @@ void relax_run(const std::array<Scalar*, Dim + 1>& x, const BandKernel<Scalar>& 
   const std::ptrdiff_t stride = Contiguous ? 1 : run.stride;
   constexpr int G = 2 * Dim;
   constexpr int K = kBandRunMaxLag;
+  static_assert(K == 2, "the recurrence below spells out the lags A_1 (near) and A_2 (far)");
   const int length = static_cast<int>(run.length);
   const std::uint32_t* run_rows = rows + run.first_row;
   // Pass 1: every member's residual at every step from the values before the run, summed in
