@@ -332,6 +332,29 @@ namespace {
 // relax_band_run for runs of M members with the steps `stride` apart (Contiguous: 1, loads and
 // stores vectorize). M is a template argument so that the recurrence's small matrices live in
 // registers.
+// The loops over a run's steps go in chunks of kRunChunk steps. Left to the compiler, the vector
+// loop takes 32 steps a trip and leaves up to 31 to scalar code, and the runs are 8-64 steps long.
+// A run of at least one chunk ends with a chunk shifted back to end at its last step, whose lanes
+// before `from` (done by the chunk before) add zero; shorter runs go step by step.
+inline constexpr int kRunChunk = 8;  // steps per vector trip (8 floats in 32 bytes)
+static_assert(kBandRunMaxLength % kRunChunk == 0);
+
+// Calls chunk(s0, from) for the chunks of steps s0..s0 + kRunChunk - 1 covering 0..length - 1;
+// a chunk must leave the steps before `from` unchanged.
+template <typename Chunk>
+inline void for_each_chunk(int length, Chunk&& chunk) {
+  if (length < kRunChunk) return;
+  const int whole = length / kRunChunk * kRunChunk;
+  for (int s0 = 0; s0 < whole; s0 += kRunChunk) chunk(s0, s0);
+  if (whole < length) chunk(length - kRunChunk, whole);
+}
+
+// First step left to the step-by-step loop after for_each_chunk: none for runs of a chunk or
+// more.
+inline int tail_start(int length) {
+  return length < kRunChunk ? 0 : length;
+}
+
 template <bool Contiguous, int M, int Dim, typename Scalar>
 void relax_run(const std::array<Scalar*, Dim + 1>& x, const BandKernel<Scalar>& kernel,
                const BandRunShape<Dim, Scalar>& shape, const BandRun& run,
@@ -344,6 +367,7 @@ void relax_run(const std::array<Scalar*, Dim + 1>& x, const BandKernel<Scalar>& 
   const std::uint32_t* run_rows = rows + run.first_row;
   // Pass 1: every member's residual at every step from the values before the run, summed in
   // the pattern's entry order like the step-by-step sweep.
+  const int padded = (length + kRunChunk - 1) / kRunChunk * kRunChunk;
   alignas(32) Scalar r[M][kBandRunMaxLength];
   for (int a = 0; a < M; ++a) {
     alignas(32) Scalar sum[kBandRunMaxLength] = {};
@@ -352,10 +376,18 @@ void relax_run(const std::array<Scalar*, Dim + 1>& x, const BandKernel<Scalar>& 
     for (std::uint32_t e = kernel.start[p]; e < kernel.start[p + 1]; ++e) {
       const Scalar value = kernel.entry_value[e];
       const Scalar* __restrict xe = x[kernel.entry_field[e]] + base + kernel.entry_offset[e];
+      for_each_chunk(length, [&](int s0, int from) {
 #pragma omp simd
-      for (int s = 0; s < length; ++s) sum[s] += value * xe[s * stride];
+        for (int i = 0; i < kRunChunk; ++i) {
+          const int s = s0 + i;
+          const Scalar term = value * xe[s * stride];
+          sum[s] += s >= from ? term : Scalar(0);
+        }
+      });
+      for (int s = tail_start(length); s < length; ++s) sum[s] += value * xe[s * stride];
     }
     for (int s = 0; s < length; ++s) r[a][s] = kernel.rhs[run_rows[s * M + a]] - sum[s];
+    for (int s = length; s < padded; ++s) r[a][s] = 0;
   }
   // Pass 2: delta_s = W r0_s for every step (vectorized), then the recurrence
   // delta_s -= A_1 delta_{s-1} + A_2 delta_{s-2} (delta[.][K + s] is step s).
@@ -364,11 +396,13 @@ void relax_run(const std::array<Scalar*, Dim + 1>& x, const BandKernel<Scalar>& 
     for (int j = 0; j < K; ++j) delta[a][j] = 0;
     Scalar* __restrict d = delta[a] + K;
     const Scalar* w = shape.weight.data() + a * G;
+    for (int s0 = 0; s0 < padded; s0 += kRunChunk) {
 #pragma omp simd
-    for (int s = 0; s < length; ++s) {
-      Scalar sum = 0;
-      for (int b = 0; b < M; ++b) sum += w[b] * r[b][s];
-      d[s] = sum;
+      for (int i = 0; i < kRunChunk; ++i) {
+        Scalar sum = 0;
+        for (int b = 0; b < M; ++b) sum += w[b] * r[b][s0 + i];
+        d[s0 + i] = sum;
+      }
     }
   }
   Scalar response[K][M][M];
@@ -391,14 +425,26 @@ void relax_run(const std::array<Scalar*, Dim + 1>& x, const BandKernel<Scalar>& 
     const std::ptrdiff_t base = run.target + shape.offset[a];
     const Scalar* __restrict d = delta[a] + K;
     Scalar* __restrict xa = x[shape.field[a]] + base;
+    for_each_chunk(length, [&](int s0, int from) {
 #pragma omp simd
-    for (int s = 0; s < length; ++s) xa[s * stride] += d[s];
+      for (int i = 0; i < kRunChunk; ++i) {
+        const int s = s0 + i;
+        xa[s * stride] += s >= from ? d[s] : Scalar(0);
+      }
+    });
+    for (int s = tail_start(length); s < length; ++s) xa[s * stride] += d[s];
     const std::uint32_t p = shape.pattern[a];
     for (int c = 0; c < kernel.pressure_count[p]; ++c) {
       const Scalar factor = kernel.pressure_factor[p][c];
       Scalar* __restrict pa = x[Dim] + base + kernel.pressure_offset[p][c];
+      for_each_chunk(length, [&](int s0, int from) {
 #pragma omp simd
-      for (int s = 0; s < length; ++s) pa[s * stride] -= factor * d[s];
+        for (int i = 0; i < kRunChunk; ++i) {
+          const int s = s0 + i;
+          pa[s * stride] -= s >= from ? factor * d[s] : Scalar(0);
+        }
+      });
+      for (int s = tail_start(length); s < length; ++s) pa[s * stride] -= factor * d[s];
     }
   }
 }
