@@ -36,7 +36,7 @@ inline ElasticityProblem<3> twisted_bar(double nu, int n = 24) {
   return problem;
 }
 
-inline void fill_pseudo_random(std::vector<double>& values, std::uint32_t seed, double scale) {
+inline void fill_pseudo_random(FieldArray<double>& values, std::uint32_t seed, double scale) {
   for (double& v : values) {
     seed = seed * 1664525u + 1013904223u;
     v = scale * (static_cast<double>(seed >> 8) / (1u << 24) - 0.5);
@@ -103,10 +103,10 @@ inline Measured measure(const ElasticityProblem<3>& problem, CorotatedOptions op
 
 // The finest unknowns after `cycles` run_cycles of a co-rotated multigrid built with 1 and with 2
 // threads (index = threads - 1), for thread-count independence checks.
-inline std::array<std::array<std::vector<double>, 4>, 2> solutions_with_one_and_two_threads(
+inline std::array<std::array<FieldArray<double>, 4>, 2> solutions_with_one_and_two_threads(
     const ElasticityProblem<3>& problem, const CorotatedOptions& options, int cycles) {
   const int saved = thread_count();
-  std::array<std::array<std::vector<double>, 4>, 2> x;
+  std::array<std::array<FieldArray<double>, 4>, 2> x;
   for (int threads : {1, 2}) {
     set_thread_count(threads);
     CorotatedMultigrid<3> corotated(problem, {}, options);

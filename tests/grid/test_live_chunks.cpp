@@ -88,7 +88,7 @@ constexpr const char* kNoPageTable =
 
 // Pages of v that overlap no live chunk and were written since they were released.
 template <typename T>
-long written_dead_pages(const std::vector<T>& v, const LiveChunks& live) {
+long written_dead_pages(const FieldArray<T>& v, const LiveChunks& live) {
   return written_pages(released_stretches(v, live));
 }
 
@@ -249,7 +249,7 @@ TEST(LiveChunks, ClearingLoadsLeavesZeroPagesUnwritten) {
   const ElasticityProblem<3> problem = gravity_box(0.3);
   Multigrid<3, float> mg(problem);
   const Level<3, double>& solution = std::as_const(mg).solution_level();
-  std::vector<double> b(solution.b[0].size(), 0.0);
+  FieldArray<double> b(solution.b[0].size(), 0.0);
   const auto released = release_zero_pages(b, solution.live);
   ASSERT_GE(released.size(), 1u);
   const std::size_t k = b.size() / 2;

@@ -124,7 +124,7 @@ TEST(Residual, FreshNormEqualsTheNormOfTheResidualArray) {
   }
   EXPECT_EQ(fresh, (residual_into<3, double, double>(level, out)));
   auto single = random_mixed_level<2, float>(24, 0.0, 4);
-  for (auto& field : single.r) field = std::vector<float>();
+  for (auto& field : single.r) field = FieldArray<float>();
   const double fresh_float = fresh_residual_norm(single);
   EXPECT_TRUE(single.r[0].empty());
   EXPECT_GT(fresh_float, 0.0);

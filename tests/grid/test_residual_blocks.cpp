@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "mgelastic/core/error.hpp"
 #include "mgelastic/grid/box_problem.hpp"
 #include "mgelastic/grid/coarsening.hpp"
 

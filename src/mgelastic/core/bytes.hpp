@@ -17,8 +17,8 @@ void append_bytes(std::string& key, const T& value) {
 }
 
 // Bytes allocated by `v` (capacity, not size: what the process holds).
-template <typename T>
-std::size_t vector_bytes(const std::vector<T>& v) {
+template <typename T, typename Allocator>
+std::size_t vector_bytes(const std::vector<T, Allocator>& v) {
   return v.capacity() * sizeof(T);
 }
 

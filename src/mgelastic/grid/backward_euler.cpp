@@ -46,7 +46,7 @@ double backward_euler_inertia(const TimeStepOptions& o) {
 template <int Dim>
 void sample_face_velocity(const Level<Dim, double>& level,
                           const std::function<Vec<Dim>(const Vec<Dim>&)>& velocity,
-                          std::array<std::vector<double>, Dim>& out) {
+                          std::array<FieldArray<double>, Dim>& out) {
   for (int i = 0; i < Dim; ++i)
     for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(level.size()); ++k)
       out[i][k] = level.kind(i, k) == VarKind::INACTIVE
@@ -56,8 +56,8 @@ void sample_face_velocity(const Level<Dim, double>& level,
 
 template <int Dim>
 void write_step_right_hand_side(Level<Dim, double>& level,
-                                const std::array<std::vector<double>, Dim + 1>& static_rhs,
-                                const std::array<std::vector<double>, Dim>& velocity,
+                                const std::array<FieldArray<double>, Dim + 1>& static_rhs,
+                                const std::array<FieldArray<double>, Dim>& velocity,
                                 const TimeStepOptions& options, double inertia) {
   const double dt = options.dt, gamma = options.damping, c = inertia;
   const double beta = 1.0 + gamma / dt;
@@ -80,8 +80,8 @@ void write_step_right_hand_side(Level<Dim, double>& level,
 
 template <int Dim>
 void update_face_velocity(const Level<Dim, double>& level,
-                          const std::array<std::vector<double>, Dim>& previous, double dt,
-                          std::array<std::vector<double>, Dim>& velocity) {
+                          const std::array<FieldArray<double>, Dim>& previous, double dt,
+                          std::array<FieldArray<double>, Dim>& velocity) {
   for (int i = 0; i < Dim; ++i)
     for (std::size_t k = 0; k < level.size(); ++k)
       velocity[i][k] =
@@ -90,7 +90,7 @@ void update_face_velocity(const Level<Dim, double>& level,
 
 template <int Dim>
 double face_kinetic_energy(const Level<Dim, double>& level,
-                           const std::array<std::vector<double>, Dim>& velocity, double density) {
+                           const std::array<FieldArray<double>, Dim>& velocity, double density) {
   double sum = 0;
   for (int i = 0; i < Dim; ++i)
     for (std::size_t k = 0; k < level.size(); ++k)
@@ -104,18 +104,18 @@ Error diverged_step(double time, const std::string& reason) {
   return Error(text.str(), ErrorContext{.pointer = "time"});
 }
 
-#define MGELASTIC_INSTANTIATE(D)                                                           \
-  template void sample_face_velocity<D>(const Level<D, double>&,                           \
-                                        const std::function<Vec<D>(const Vec<D>&)>&,       \
-                                        std::array<std::vector<double>, D>&);              \
-  template void write_step_right_hand_side<D>(                                             \
-      Level<D, double>&, const std::array<std::vector<double>, D + 1>&,                    \
-      const std::array<std::vector<double>, D>&, const TimeStepOptions&, double);          \
-  template void update_face_velocity<D>(const Level<D, double>&,                           \
-                                        const std::array<std::vector<double>, D>&, double, \
-                                        std::array<std::vector<double>, D>&);              \
-  template double face_kinetic_energy<D>(const Level<D, double>&,                          \
-                                         const std::array<std::vector<double>, D>&, double);
+#define MGELASTIC_INSTANTIATE(D)                                                          \
+  template void sample_face_velocity<D>(const Level<D, double>&,                          \
+                                        const std::function<Vec<D>(const Vec<D>&)>&,      \
+                                        std::array<FieldArray<double>, D>&);              \
+  template void write_step_right_hand_side<D>(                                            \
+      Level<D, double>&, const std::array<FieldArray<double>, D + 1>&,                    \
+      const std::array<FieldArray<double>, D>&, const TimeStepOptions&, double);          \
+  template void update_face_velocity<D>(const Level<D, double>&,                          \
+                                        const std::array<FieldArray<double>, D>&, double, \
+                                        std::array<FieldArray<double>, D>&);              \
+  template double face_kinetic_energy<D>(const Level<D, double>&,                         \
+                                         const std::array<FieldArray<double>, D>&, double);
 MGELASTIC_INSTANTIATE(2)
 MGELASTIC_INSTANTIATE(3)
 #undef MGELASTIC_INSTANTIATE

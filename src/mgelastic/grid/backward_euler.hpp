@@ -49,19 +49,19 @@ double backward_euler_inertia(const TimeStepOptions& options);
 template <int Dim>
 void sample_face_velocity(const Level<Dim, double>& level,
                           const std::function<Vec<Dim>(const Vec<Dim>&)>& velocity,
-                          std::array<std::vector<double>, Dim>& out);
+                          std::array<FieldArray<double>, Dim>& out);
 
 // v' = (u' - u) / dt at the face variables (0 at inactive faces), from the level's u' and the
 // step's starting displacement `previous`.
 template <int Dim>
 void update_face_velocity(const Level<Dim, double>& level,
-                          const std::array<std::vector<double>, Dim>& previous, double dt,
-                          std::array<std::vector<double>, Dim>& velocity);
+                          const std::array<FieldArray<double>, Dim>& previous, double dt,
+                          std::array<FieldArray<double>, Dim>& velocity);
 
 // Kinetic energy (1/2) rho h^d sum v^2 over the interior face variables.
 template <int Dim>
 double face_kinetic_energy(const Level<Dim, double>& level,
-                           const std::array<std::vector<double>, Dim>& velocity, double density);
+                           const std::array<FieldArray<double>, Dim>& velocity, double density);
 
 // The error of a step from time t whose solve failed with `reason`.
 Error diverged_step(double time, const std::string& reason);
@@ -71,8 +71,8 @@ Error diverged_step(double time, const std::string& reason);
 // residual of b = 0, r = -(L u - c u), from which L u = c u - r.
 template <int Dim>
 void write_step_right_hand_side(Level<Dim, double>& level,
-                                const std::array<std::vector<double>, Dim + 1>& static_rhs,
-                                const std::array<std::vector<double>, Dim>& velocity,
+                                const std::array<FieldArray<double>, Dim + 1>& static_rhs,
+                                const std::array<FieldArray<double>, Dim>& velocity,
                                 const TimeStepOptions& options, double inertia);
 
 template <int Dim, typename Scalar>
@@ -99,8 +99,8 @@ class BackwardEuler {
   void set_time(double time) { m_time = time; }
   const TimeStepOptions& options() const { return m_options; }
   double inertia() const { return m_inertia; }
-  std::array<std::vector<double>, Dim>& velocity() { return m_velocity; }
-  const std::array<std::vector<double>, Dim>& velocity() const { return m_velocity; }
+  std::array<FieldArray<double>, Dim>& velocity() { return m_velocity; }
+  const std::array<FieldArray<double>, Dim>& velocity() const { return m_velocity; }
   Multigrid<Dim, Scalar>& multigrid() { return m_multigrid; }
   const Multigrid<Dim, Scalar>& multigrid() const { return m_multigrid; }
   // 1/2 rho h^d sum v^2 over the interior face variables (J).
@@ -112,8 +112,8 @@ class BackwardEuler {
   TimeStepOptions m_options;
   double m_inertia = 0;
   Multigrid<Dim, Scalar> m_multigrid;
-  std::array<std::vector<double>, Dim + 1> m_static_rhs;  // b_static = -f on the finest level
-  std::array<std::vector<double>, Dim> m_velocity, m_previous;
+  std::array<FieldArray<double>, Dim + 1> m_static_rhs;  // b_static = -f on the finest level
+  std::array<FieldArray<double>, Dim> m_velocity, m_previous;
   double m_time = 0;
 };
 

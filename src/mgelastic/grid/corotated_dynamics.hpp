@@ -32,8 +32,8 @@ class CorotatedBackwardEuler {
 
   double time() const { return m_time; }
   void set_time(double time) { m_time = time; }
-  std::array<std::vector<double>, Dim>& velocity() { return m_velocity; }
-  const std::array<std::vector<double>, Dim>& velocity() const { return m_velocity; }
+  std::array<FieldArray<double>, Dim>& velocity() { return m_velocity; }
+  const std::array<FieldArray<double>, Dim>& velocity() const { return m_velocity; }
   CorotatedMultigrid<Dim>& multigrid() { return m_multigrid; }
   const CorotatedMultigrid<Dim>& multigrid() const { return m_multigrid; }
   double kinetic_energy() const;
@@ -44,8 +44,8 @@ class CorotatedBackwardEuler {
   TimeStepOptions m_options;
   double m_inertia = 0;
   CorotatedMultigrid<Dim> m_multigrid;
-  std::array<std::vector<double>, Dim + 1> m_static_rhs;
-  std::array<std::vector<double>, Dim> m_velocity, m_previous;
+  std::array<FieldArray<double>, Dim + 1> m_static_rhs;
+  std::array<FieldArray<double>, Dim> m_velocity, m_previous;
   double m_time = 0;
 };
 

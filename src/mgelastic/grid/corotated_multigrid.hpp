@@ -172,7 +172,7 @@ class CorotatedMultigrid {
   struct FreshRows;
   // A quasistatic load: finest right-hand side, Dirichlet values (at m_dirichlet), traction scale.
   struct Load {
-    std::array<std::vector<double>, Dim + 1> b;
+    std::array<FieldArray<double>, Dim + 1> b;
     std::vector<double> dirichlet;
     double traction = 0;
   };

@@ -125,7 +125,7 @@ GalerkinCoarseSolver<Dim, Scalar>::GalerkinCoarseSolver(Level<Dim, Scalar>& fine
   zero(fine.x, fine.live);
   zero(coarse.x, coarse.live);
   for (auto* level : {&fine, &coarse})
-    for (auto& field : level->r) std::vector<Scalar>().swap(field);
+    for (auto& field : level->r) FieldArray<Scalar>().swap(field);
   if (m_impl->lu.info() != Eigen::Success)
     throw Error("the Galerkin coarsest operator is singular", {.pointer = "coarsest_operator"});
 }

@@ -347,6 +347,29 @@ std::size_t reserve_rows(SparseRows<Scalar>& to, const std::vector<Part>& parts)
   return rows;
 }
 
+// Room for `rows` rows of at most `entries_per_row` entries in a part's rows: no regrowth, whose
+// copies would fault in fresh pages (several microseconds each on a virtual machine). Capacity
+// that no row fills costs no memory (large blocks are mapped on their own, heap_policy.hpp).
+template <typename Scalar>
+void reserve_part_rows(SparseRows<Scalar>& rows, std::size_t count, std::size_t entries_per_row) {
+  for (auto* v : {&rows.target, &rows.start, &rows.target_index}) v->reserve(count + 1);
+  rows.constant.reserve(count);
+  rows.target_field.reserve(count);
+  rows.value.reserve(count * entries_per_row);
+  rows.column_field.reserve(count * entries_per_row);
+  rows.column_index.reserve(count * entries_per_row);
+}
+
+// Band variables of fields [first, last] at lattice points [begin, end).
+template <int Dim, typename Scalar>
+std::size_t band_variables(const Level<Dim, Scalar>& level, int first, int last,
+                           std::ptrdiff_t begin, std::ptrdiff_t end) {
+  std::size_t count = 0;
+  for (std::ptrdiff_t k = begin; k < end; ++k)
+    for (int f = first; f <= last; ++f) count += level.relaxation(f, k) == Relaxation::BAND;
+  return count;
+}
+
 // Builds part(t, begin, end) for T contiguous ranges of [0, n), one per thread, and returns the
 // parts in range order: joined in that order they are the serial build's, for any thread count.
 template <typename Part, typename Build>
@@ -388,6 +411,10 @@ void build_band_rows(Level<Dim, Scalar>& level, const RowBuilder<Dim>& builder,
   const double mu = level.mu, lambda = level.lambda;
   auto pressure_parts = build_in_ranges<PressureRowsPart<Scalar>>(
       n, [&](PressureRowsPart<Scalar>& part, std::ptrdiff_t begin, std::ptrdiff_t end) {
+        const std::size_t count = band_variables(level, Dim, Dim, begin, end);
+        reserve_part_rows(part.rows, count, 4 * Dim);
+        for (auto* v : {&part.extra, &part.inverse}) v->reserve(count);
+        part.cells.reserve(count);
         for (std::ptrdiff_t k = begin; k < end; ++k) {
           if (level.relaxation(Dim, k) != Relaxation::BAND) continue;
           const ExplicitRow row = builder.pressure(k);
@@ -413,6 +440,11 @@ void build_band_rows(Level<Dim, Scalar>& level, const RowBuilder<Dim>& builder,
   }
   auto momentum_parts = build_in_ranges<MomentumRowsPart<Scalar>>(
       n, [&](MomentumRowsPart<Scalar>& part, std::ptrdiff_t begin, std::ptrdiff_t end) {
+        const std::size_t count = band_variables(level, 0, Dim - 1, begin, end);
+        reserve_part_rows(part.rows, count, 16 * Dim);
+        part.pressure.reserve(count);
+        part.factor.reserve(count);
+        part.schur.reserve(count);
         for (std::ptrdiff_t k = begin; k < end; ++k) {
           for (int i = 0; i < Dim; ++i) {
             if (level.relaxation(i, k) != Relaxation::BAND) continue;

@@ -158,7 +158,7 @@ struct Level {
   // level's Dirichlet wall, 1 + the finest layers between them (finest_dirichlet_wall_layers,
   // coarsening.hpp), else 0; only these faces clamp at the finest depth.
   std::vector<std::uint8_t> dirichlet_wall_layers;
-  std::array<std::vector<Scalar>, Dim + 1> x, b, r;
+  std::array<FieldArray<Scalar>, Dim + 1> x, b, r;
   // The stretches of x, b and r that hold or border a variable (live_chunks.hpp); outside them
   // the fields are zero with their pages released, and the passes over whole arrays skip them.
   LiveChunks live;

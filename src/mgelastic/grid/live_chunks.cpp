@@ -109,7 +109,7 @@ void for_each_dead_stretch(std::uintptr_t base, std::size_t n, const LiveChunks&
 }  // namespace
 
 template <typename T>
-std::vector<std::pair<std::uintptr_t, std::uintptr_t>> released_stretches(const std::vector<T>& v,
+std::vector<std::pair<std::uintptr_t, std::uintptr_t>> released_stretches(const FieldArray<T>& v,
                                                                           const LiveChunks& live) {
   std::vector<std::pair<std::uintptr_t, std::uintptr_t>> stretches;
   if (live.all_live() || v.empty()) return stretches;
@@ -120,36 +120,39 @@ std::vector<std::pair<std::uintptr_t, std::uintptr_t>> released_stretches(const 
 }
 
 template <typename T>
-std::size_t released_bytes(const std::vector<T>& v, const LiveChunks& live) {
+std::size_t released_bytes(const FieldArray<T>& v, const LiveChunks& live) {
   std::size_t bytes = 0;
   for (const auto& [p0, p1] : released_stretches(v, live)) bytes += p1 - p0;
   return bytes;
 }
 
 template <typename T>
-void assign_zeros_sparse(std::vector<T>& v, std::size_t n, const LiveChunks& live) {
-  if (live.all_live()) {
-    assign_on_huge_pages(v, n, T(0));
-    return;
-  }
-  v.clear();
-  v.shrink_to_fit();
+void assign_zeros_sparse(FieldArray<T>& v, std::size_t n, const LiveChunks& live) {
+  // Fresh zeroed storage that no write has touched (field_array.hpp): pages are mapped where a
+  // pass first writes, so the dead ones hold no memory. No huge page may hold a dead page (where
+  // the system's THP mode is "always" too): a partly written huge page takes its whole 2 MiB, and
+  // khugepaged would fill it. So: no huge pages, then huge pages on the huge ranges.
+  FieldArray<T>().swap(v);
   v.reserve(n);
   const auto base = reinterpret_cast<std::uintptr_t>(v.data());
-  const std::uintptr_t page = page_bytes();
-  const std::uintptr_t end = base + n * sizeof(T);
-  // No huge page may hold a released page (where the system's THP mode is "always" too): a
-  // partly released huge page keeps its memory until it is split, and khugepaged would fill it
-  // again. So: no huge pages, then huge pages on the huge ranges (which release nothing).
-  const std::uintptr_t first_page = (base + page - 1) & ~(page - 1);
+  if (live.all_live()) {
+    advise_huge_pages(v.data(), n * sizeof(T));
+  } else {
+    const std::uintptr_t page = page_bytes();
+    const std::uintptr_t end = base + n * sizeof(T);
+    const std::uintptr_t first_page = (base + page - 1) & ~(page - 1);
 #ifdef MADV_NOHUGEPAGE
-  if (end > first_page)
-    madvise(reinterpret_cast<void*>(first_page), end - first_page, MADV_NOHUGEPAGE);
+    if (end > first_page)
+      madvise(reinterpret_cast<void*>(first_page), end - first_page, MADV_NOHUGEPAGE);
 #endif
-  for (std::uintptr_t h = (base + kHugePage - 1) & ~(kHugePage - 1); h + kHugePage <= end;
-       h += kHugePage)
-    if (huge_range<T>(base, n, live, h)) advise_huge_pages(reinterpret_cast<void*>(h), kHugePage);
-  v.assign(n, T(0));
+    for (std::uintptr_t h = (base + kHugePage - 1) & ~(kHugePage - 1); h + kHugePage <= end;
+         h += kHugePage)
+      if (huge_range<T>(base, n, live, h)) advise_huge_pages(reinterpret_cast<void*>(h), kHugePage);
+  }
+  v.resize(n);  // in the fresh storage reserved above: zeros, no write (field_array.hpp)
+  if (live.all_live()) return;
+  // Where calloc handed out heap memory (below the mmap threshold, heap_policy.hpp) it wrote its
+  // zeros: the dead pages go back.
   for_each_dead_stretch<T>(base, n, live, [](std::uintptr_t p0, std::uintptr_t p1) {
     madvise(reinterpret_cast<void*>(p0), p1 - p0, MADV_DONTNEED);
   });
@@ -170,7 +173,7 @@ bool zero_bytes(std::uintptr_t p0, std::uintptr_t p1) {
 }  // namespace
 
 template <typename T>
-std::vector<std::pair<std::uintptr_t, std::uintptr_t>> release_zero_pages(std::vector<T>& v,
+std::vector<std::pair<std::uintptr_t, std::uintptr_t>> release_zero_pages(FieldArray<T>& v,
                                                                           const LiveChunks& live) {
   std::vector<std::pair<std::uintptr_t, std::uintptr_t>> released;
   if (v.empty()) return released;
@@ -205,16 +208,16 @@ std::vector<std::pair<std::uintptr_t, std::uintptr_t>> release_zero_pages(std::v
 template LiveChunks find_live_chunks<2>(const Lattice<2>&, const VarCodes&);
 template LiveChunks find_live_chunks<3>(const Lattice<3>&, const VarCodes&);
 template std::vector<std::pair<std::uintptr_t, std::uintptr_t>> release_zero_pages<float>(
-    std::vector<float>&, const LiveChunks&);
+    FieldArray<float>&, const LiveChunks&);
 template std::vector<std::pair<std::uintptr_t, std::uintptr_t>> release_zero_pages<double>(
-    std::vector<double>&, const LiveChunks&);
-template void assign_zeros_sparse<float>(std::vector<float>&, std::size_t, const LiveChunks&);
-template void assign_zeros_sparse<double>(std::vector<double>&, std::size_t, const LiveChunks&);
-template std::size_t released_bytes<float>(const std::vector<float>&, const LiveChunks&);
-template std::size_t released_bytes<double>(const std::vector<double>&, const LiveChunks&);
+    FieldArray<double>&, const LiveChunks&);
+template void assign_zeros_sparse<float>(FieldArray<float>&, std::size_t, const LiveChunks&);
+template void assign_zeros_sparse<double>(FieldArray<double>&, std::size_t, const LiveChunks&);
+template std::size_t released_bytes<float>(const FieldArray<float>&, const LiveChunks&);
+template std::size_t released_bytes<double>(const FieldArray<double>&, const LiveChunks&);
 template std::vector<std::pair<std::uintptr_t, std::uintptr_t>> released_stretches<float>(
-    const std::vector<float>&, const LiveChunks&);
+    const FieldArray<float>&, const LiveChunks&);
 template std::vector<std::pair<std::uintptr_t, std::uintptr_t>> released_stretches<double>(
-    const std::vector<double>&, const LiveChunks&);
+    const FieldArray<double>&, const LiveChunks&);
 
 }  // namespace mgelastic::grid

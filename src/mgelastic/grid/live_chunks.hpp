@@ -24,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include "mgelastic/grid/field_array.hpp"
 #include "mgelastic/grid/lattice.hpp"
 
 namespace mgelastic::grid {
@@ -68,14 +69,14 @@ void zero_live(T* v, std::ptrdiff_t begin, std::ptrdiff_t end, const LiveChunks&
   });
 }
 template <typename T>
-void zero_live(std::vector<T>& v, const LiveChunks& live) {
+void zero_live(FieldArray<T>& v, const LiveChunks& live) {
   zero_live(v.data(), 0, static_cast<std::ptrdiff_t>(v.size()), live);
 }
 
 // zero_live that writes only the live chunks holding a nonzero: pages of a right-hand side that
 // release_zero_pages handed back stay without memory where they were zero (reads map none).
 template <typename T>
-void zero_live_where_nonzero(std::vector<T>& v, const LiveChunks& live) {
+void zero_live_where_nonzero(FieldArray<T>& v, const LiveChunks& live) {
   for_each_live_chunk(
       live, 0, static_cast<std::ptrdiff_t>(v.size()), [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
         if (std::any_of(v.begin() + lo, v.begin() + hi, [](T value) { return value != T(0); }))
@@ -85,7 +86,7 @@ void zero_live_where_nonzero(std::vector<T>& v, const LiveChunks& live) {
 
 // Whether v holds only zeros (its dead chunks do by the invariant above; reads map no memory).
 template <typename T>
-bool zero_where_live(const std::vector<T>& v, const LiveChunks& live) {
+bool zero_where_live(const FieldArray<T>& v, const LiveChunks& live) {
   bool zero = true;
   for_each_live_chunk(
       live, 0, static_cast<std::ptrdiff_t>(v.size()), [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
@@ -98,8 +99,8 @@ bool zero_where_live(const std::vector<T>& v, const LiveChunks& live) {
 // dst = src (converted to dst's type) for arrays of one level: where the sizes match only the
 // live chunks are copied (src is zero in the dead ones, by the invariant above), so dst's
 // released pages stay released.
-template <typename T, typename S>
-void assign_live(std::vector<T>& dst, const std::vector<S>& src, const LiveChunks& live) {
+template <typename Dst, typename Src>
+void assign_live(Dst& dst, const Src& src, const LiveChunks& live) {
   if (dst.size() != src.size()) {
     dst.assign(src.begin(), src.end());
     return;
@@ -109,17 +110,16 @@ void assign_live(std::vector<T>& dst, const std::vector<S>& src, const LiveChunk
                         std::copy(src.begin() + lo, src.begin() + hi, dst.begin() + lo);
                       });
 }
-template <typename T, typename S, std::size_t N>
-void assign_live(std::array<std::vector<T>, N>& dst, const std::array<std::vector<S>, N>& src,
-                 const LiveChunks& live) {
+template <typename Dst, typename Src, std::size_t N>
+void assign_live(std::array<Dst, N>& dst, const std::array<Src, N>& src, const LiveChunks& live) {
   for (std::size_t f = 0; f < N; ++f) assign_live(dst[f], src[f], live);
 }
 
 // The live chunks of v one after the other: all that v holds beyond zeros.
 template <typename T>
-std::vector<T> pack_live(const std::vector<T>& v, const LiveChunks& live) {
+FieldArray<T> pack_live(const FieldArray<T>& v, const LiveChunks& live) {
   if (live.all_live()) return v;
-  std::vector<T> packed;
+  FieldArray<T> packed;
   packed.reserve(live.live_count() * kLiveChunk);
   for_each_live_chunk(live, 0, static_cast<std::ptrdiff_t>(v.size()),
                       [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
@@ -130,7 +130,7 @@ std::vector<T> pack_live(const std::vector<T>& v, const LiveChunks& live) {
 
 // v's live chunks from pack_live's result (the dead ones are zero already).
 template <typename T>
-void unpack_live(const std::vector<T>& packed, std::vector<T>& v, const LiveChunks& live) {
+void unpack_live(const FieldArray<T>& packed, FieldArray<T>& v, const LiveChunks& live) {
   auto from = packed.begin();
   for_each_live_chunk(live, 0, static_cast<std::ptrdiff_t>(v.size()),
                       [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
@@ -139,19 +139,19 @@ void unpack_live(const std::vector<T>& packed, std::vector<T>& v, const LiveChun
                       });
 }
 
-// v.assign(n, 0) with the pages of released_stretches handed back (huge pages elsewhere).
+// v = n zeros, the pages of released_stretches never written (huge pages elsewhere).
 template <typename T>
-void assign_zeros_sparse(std::vector<T>& v, std::size_t n, const LiveChunks& live);
+void assign_zeros_sparse(FieldArray<T>& v, std::size_t n, const LiveChunks& live);
 
 // The address stretches [begin, end) of v's pages that assign_zeros_sparse released: pages that
 // overlap no live chunk, outside the 2 MiB ranges that stay on huge pages (those with at least
 // half of their pages live). Every pass keeps them released (the memory accounting's
 // assumption; tests/grid/test_live_chunks.cpp checks it against the page table).
 template <typename T>
-std::vector<std::pair<std::uintptr_t, std::uintptr_t>> released_stretches(const std::vector<T>& v,
+std::vector<std::pair<std::uintptr_t, std::uintptr_t>> released_stretches(const FieldArray<T>& v,
                                                                           const LiveChunks& live);
 template <typename T>
-std::size_t released_bytes(const std::vector<T>& v, const LiveChunks& live);
+std::size_t released_bytes(const FieldArray<T>& v, const LiveChunks& live);
 
 // Hands back the pages of v (a field laid out by assign_zeros_sparse or assign_on_huge_pages
 // with the same `live`) that hold only zero bytes and that released_stretches keeps: a whole
@@ -160,7 +160,7 @@ std::size_t released_bytes(const std::vector<T>& v, const LiveChunks& live);
 // For right-hand sides, which a load leaves zero in whole fields (gravity along y: b of u_x,
 // u_z and p). Returns the released stretches (disjoint from released_stretches(v, live)).
 template <typename T>
-std::vector<std::pair<std::uintptr_t, std::uintptr_t>> release_zero_pages(std::vector<T>& v,
+std::vector<std::pair<std::uintptr_t, std::uintptr_t>> release_zero_pages(FieldArray<T>& v,
                                                                           const LiveChunks& live);
 
 }  // namespace mgelastic::grid

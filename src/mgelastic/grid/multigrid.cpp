@@ -103,8 +103,8 @@ void share_variable_codes(const Level<Dim, Scalar>& fine, Level<Dim, double>& so
 // x into the finest level's unknowns (rounded to float in single precision), its live chunks only
 // (live_chunks.hpp: the rest holds no variable and stays zero, with its pages released).
 template <std::size_t Fields, typename T>
-void copy_solution_state(const std::array<std::vector<double>, Fields>& x,
-                         std::array<std::vector<T>, Fields>& fields, const LiveChunks& live) {
+void copy_solution_state(const std::array<FieldArray<double>, Fields>& x,
+                         std::array<FieldArray<T>, Fields>& fields, const LiveChunks& live) {
   for (std::size_t f = 0; f < Fields; ++f)
     if (x[f].size() != fields[f].size())
       throw Error("solution state field " + std::to_string(f) + " has " +

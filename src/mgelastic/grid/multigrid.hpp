@@ -172,7 +172,7 @@ class Multigrid {
   // unknowns x in double, Dim + 1 arrays (u_0.., p) of the lattice size, Dirichlet and
   // back-substituted traction values included (single precision: a double copy of the float
   // values, rounded back by set_solution_state). set_solution_state throws Error on other sizes.
-  using SolutionState = std::array<std::vector<double>, Dim + 1>;
+  using SolutionState = std::array<FieldArray<double>, Dim + 1>;
   const SolutionState& solution_state() const;
   void set_solution_state(const SolutionState& x);
 
@@ -231,7 +231,7 @@ class Multigrid {
   // precision the float finest level's x (half the bytes of a double copy).
   struct StartState {
     SolutionState solution;
-    std::array<std::vector<Scalar>, Dim + 1> single;
+    std::array<FieldArray<Scalar>, Dim + 1> single;
     bool packed = false;  // the arrays hold the live chunks only (live_chunks.hpp: pack_live)
     bool zero = false;    // x started at zero: nothing stored (at 512^3 a copy is 4.4 GB)
   };

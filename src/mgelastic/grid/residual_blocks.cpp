@@ -11,8 +11,8 @@ namespace mgelastic::grid {
 namespace {
 
 template <int Dim>
-std::array<std::vector<double>, Dim + 1> residual_of(const Level<Dim, double>& level) {
-  std::array<std::vector<double>, Dim + 1> r;
+std::array<FieldArray<double>, Dim + 1> residual_of(const Level<Dim, double>& level) {
+  std::array<FieldArray<double>, Dim + 1> r;
   std::array<double*, Dim + 1> out;
   for (int f = 0; f <= Dim; ++f) {
     r[f].assign(level.size(), 0.0);

@@ -69,13 +69,16 @@ StepStats corotated_stats(const grid::CorotatedReport& r) {
 }
 
 // Carried state beyond the unknowns. Velocities of a dynamic run: "grid.v0".."grid.v2".
-void add_velocity(io::Checkpoint& c, const std::array<std::vector<double>, 3>& v) {
+void add_velocity(io::Checkpoint& c, const std::array<grid::FieldArray<double>, 3>& v) {
   for (std::size_t f = 0; f < v.size(); ++f) c.add<double>("grid.v" + std::to_string(f), v[f]);
 }
 
-void restore_velocity(const io::Checkpoint& c, std::array<std::vector<double>, 3>& v) {
-  for (std::size_t f = 0; f < v.size(); ++f)
-    v[f] = c.get<double>("grid.v" + std::to_string(f), static_cast<std::int64_t>(v[f].size()));
+void restore_velocity(const io::Checkpoint& c, std::array<grid::FieldArray<double>, 3>& v) {
+  for (std::size_t f = 0; f < v.size(); ++f) {
+    const std::vector<double> stored =
+        c.get<double>("grid.v" + std::to_string(f), static_cast<std::int64_t>(v[f].size()));
+    v[f].assign(stored.begin(), stored.end());
+  }
 }
 
 // Co-rotated model (CorotatedCarriedState): the finest rotations the frozen rows were built from
@@ -124,7 +127,7 @@ class GridStepper::Solver {
   virtual double time() const { return 0; }
   virtual void set_time(double) {}
   virtual void set_velocity(const Eigen::Vector3d&) {}
-  virtual const std::array<std::vector<double>, 3>* face_velocity() const { return nullptr; }
+  virtual const std::array<grid::FieldArray<double>, 3>* face_velocity() const { return nullptr; }
   virtual double inertia() const { return 0; }
   virtual void save_carried(io::Checkpoint&) const {}
   virtual void restore_carried(const io::Checkpoint&) {}
@@ -140,12 +143,12 @@ class GridStepper::Solver {
   virtual const grid::Level<3, double>* linear_solution() const { return nullptr; }
   virtual double solution(int field, std::ptrdiff_t k) const = 0;
   // The finest unknowns in double (the solver's own arrays where it holds them in double).
-  virtual const std::array<std::vector<double>, 4>& unknowns_state() const = 0;
-  virtual void set_unknowns_state(const std::array<std::vector<double>, 4>& x) = 0;
+  virtual const std::array<grid::FieldArray<double>, 4>& unknowns_state() const = 0;
+  virtual void set_unknowns_state(const std::array<grid::FieldArray<double>, 4>& x) = 0;
   // The solution level's right-hand side (Multigrid::solution_level().b): a cancelled solve may
   // leave it half-way (FGMRES works on a cleared one, co-rotated load steps blend it).
-  virtual const std::array<std::vector<double>, 4>& right_hand_side() const = 0;
-  virtual void set_right_hand_side(const std::array<std::vector<double>, 4>& b) = 0;
+  virtual const std::array<grid::FieldArray<double>, 4>& right_hand_side() const = 0;
+  virtual void set_right_hand_side(const std::array<grid::FieldArray<double>, 4>& b) = 0;
   // Takes the problem's new loads in place (Multigrid::set_loads, CorotatedMultigrid::set_loads).
   virtual void set_loads(const grid::ElasticityProblem<3>& problem) = 0;
 };
@@ -171,22 +174,22 @@ class HierarchySolver : public GridStepper::Solver {
   double solution(int field, std::ptrdiff_t k) const override {
     return hierarchy().solution(field, k);
   }
-  const std::array<std::vector<double>, 4>& unknowns_state() const override {
+  const std::array<grid::FieldArray<double>, 4>& unknowns_state() const override {
     return hierarchy().solution_state();
   }
-  void set_unknowns_state(const std::array<std::vector<double>, 4>& x) override {
+  void set_unknowns_state(const std::array<grid::FieldArray<double>, 4>& x) override {
     typename grid::Multigrid<3, Scalar>::SolutionState state;
     for (std::size_t f = 0; f < state.size(); ++f) state[f].assign(x[f].begin(), x[f].end());
     hierarchy().set_solution_state(state);
   }
-  const std::array<std::vector<double>, 4>& right_hand_side() const override {
+  const std::array<grid::FieldArray<double>, 4>& right_hand_side() const override {
     if (!hierarchy().single_precision()) return hierarchy().solution_level().b;
     // Single precision: the float finest level holds b; a double copy made on request.
     const auto& b = hierarchy().finest().b;
     for (std::size_t f = 0; f < b.size(); ++f) m_single_rhs[f].assign(b[f].begin(), b[f].end());
     return m_single_rhs;
   }
-  void set_right_hand_side(const std::array<std::vector<double>, 4>& b) override {
+  void set_right_hand_side(const std::array<grid::FieldArray<double>, 4>& b) override {
     if (!hierarchy().single_precision()) {
       auto& solution = hierarchy().solution_level();
       grid::assign_live(solution.b, b, solution.live);
@@ -203,7 +206,7 @@ class HierarchySolver : public GridStepper::Solver {
   }
 
  private:
-  mutable std::array<std::vector<double>, 4> m_single_rhs;  // right_hand_side() in single
+  mutable std::array<grid::FieldArray<double>, 4> m_single_rhs;  // right_hand_side() in single
 };
 
 template <typename Scalar>
@@ -245,7 +248,7 @@ class Dynamic : public HierarchySolver<Scalar> {
   void set_velocity(const Eigen::Vector3d& v0) override {
     m_sim.set_velocity([v0](const grid::Vec<3>&) { return v0; });
   }
-  const std::array<std::vector<double>, 3>* face_velocity() const override {
+  const std::array<grid::FieldArray<double>, 3>* face_velocity() const override {
     return &m_sim.velocity();
   }
 
@@ -416,8 +419,11 @@ void GridStepper::save(io::Checkpoint& c, const std::vector<io::NamedArray>& att
 
 void GridStepper::restore(const io::Checkpoint& c) {
   auto x = m_solver->unknowns_state();
-  for (std::size_t f = 0; f < x.size(); ++f)
-    x[f] = c.get<double>("grid.x" + std::to_string(f), static_cast<std::int64_t>(x[f].size()));
+  for (std::size_t f = 0; f < x.size(); ++f) {
+    const std::vector<double> stored =
+        c.get<double>("grid.x" + std::to_string(f), static_cast<std::int64_t>(x[f].size()));
+    x[f].assign(stored.begin(), stored.end());
+  }
   m_solver->set_unknowns_state(x);
   m_solver->restore_carried(c);
   m_time = c.time;
@@ -456,9 +462,12 @@ void GridStepper::return_to_start(const io::Checkpoint& start) {
   // The right-hand side first: the co-rotated model takes the current load as the equilibrium
   // its load stepping starts from (CorotatedMultigrid::restore_carried_state).
   const auto& now = m_solver->right_hand_side();
-  std::array<std::vector<double>, 4> b;
-  for (std::size_t f = 0; f < b.size(); ++f)
-    b[f] = start.get<double>(start_rhs_name(f), static_cast<std::int64_t>(now[f].size()));
+  std::array<grid::FieldArray<double>, 4> b;
+  for (std::size_t f = 0; f < b.size(); ++f) {
+    const std::vector<double> stored =
+        start.get<double>(start_rhs_name(f), static_cast<std::int64_t>(now[f].size()));
+    b[f].assign(stored.begin(), stored.end());
+  }
   m_solver->set_right_hand_side(b);
   restore(start);
 }
