@@ -563,9 +563,10 @@ auto Multigrid<Dim, Scalar>::capture_start() const -> StartState {
   StartState start;
   start.packed = true;
   const auto capture = [&](const auto& level, auto& packed) {
-    start.zero = std::all_of(level.x.begin(), level.x.end(),
-                             [&](const auto& x) { return zero_where_live(x, level.live); });
-    for (int f = 0; f <= Dim && !start.zero; ++f) packed[f] = pack_live(level.x[f], level.live);
+    for (int f = 0; f <= Dim; ++f) {
+      start.zero[f] = zero_where_live(level.x[f], level.live);
+      if (!start.zero[f]) packed[f] = pack_live(level.x[f], level.live);
+    }
   };
   if (single_precision()) {
     capture(m_levels.front(), start.single);
@@ -586,7 +587,7 @@ void Multigrid<Dim, Scalar>::restore_start(const StartState& start) {
   }
   const auto restore = [&](auto& level, const auto& packed) {
     for (int f = 0; f <= Dim; ++f) {
-      if (start.zero)
+      if (start.zero[f])
         zero_live(level.x[f], level.live);
       else
         unpack_live(packed[f], level.x[f], level.live);

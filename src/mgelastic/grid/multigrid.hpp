@@ -233,7 +233,9 @@ class Multigrid {
     SolutionState solution;
     std::array<FieldArray<Scalar>, Dim + 1> single;
     bool packed = false;  // the arrays hold the live chunks only (live_chunks.hpp: pack_live)
-    bool zero = false;    // x started at zero: nothing stored (at 512^3 a copy is 4.4 GB)
+    // Per field: x started at zero there, nothing stored (at 512^3 a copy is 4.4 GB; an
+    // embedded body's gravity load leaves three of its four fields zero at the start).
+    std::array<bool, Dim + 1> zero{};
   };
   // release_zero_load_pages on the level that holds the loads (the solution's), if enabled.
   void release_zero_loads();
