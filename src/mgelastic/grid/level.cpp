@@ -259,7 +259,7 @@ void band_partly_filled_cells(Level<Dim, Scalar>& level) {
 
 template <int Dim, typename Scalar>
 void classify_relaxation(Level<Dim, Scalar>& level, const std::vector<CellType>* coarse_cells,
-                         std::vector<std::uint8_t>& pre, std::vector<std::uint8_t>& post,
+                         FieldArray<std::uint8_t>& pre, FieldArray<std::uint8_t>& post,
                          int band_layers) {
   const Classifier<Dim> classifier{level.lattice, level.cells};
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(level.size());
@@ -298,8 +298,10 @@ void classify_relaxation(Level<Dim, Scalar>& level, const std::vector<CellType>*
                 level.relaxation(Dim, k - si) == Relaxation::BAND;
       if (relocation) {
         const auto [restricts_badly, prolongs_badly] = relocation->classify(i, k);
-        pre[i * n + k] = restricts_badly;
-        post[i * n + k] = prolongs_badly;
+        // Written where set only: the flags start as calloc's zeros, and the pages of the
+        // (few) faces with a flag are all they map.
+        if (restricts_badly) pre[i * n + k] = 1;
+        if (prolongs_badly) post[i * n + k] = 1;
         band[k] = band[k] || restricts_badly || prolongs_badly;
       }
     }
@@ -406,7 +408,7 @@ struct MomentumRowsPart {
 // component). Built by the threads in contiguous lattice ranges and joined in order.
 template <int Dim, typename Scalar>
 void build_band_rows(Level<Dim, Scalar>& level, const RowBuilder<Dim>& builder,
-                     const std::vector<std::uint8_t>& pre, const std::vector<std::uint8_t>& post) {
+                     const FieldArray<std::uint8_t>& pre, const FieldArray<std::uint8_t>& post) {
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(level.size());
   const double mu = level.mu, lambda = level.lambda;
   auto pressure_parts = build_in_ranges<PressureRowsPart<Scalar>>(
@@ -832,7 +834,9 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
     for (auto* field : {&level.x[f], &level.b[f]}) assign_zeros_sparse(*field, n, level.live);
     if (release_dead_pages) release_zero_pages(level.b[f], level.live);
   }
-  std::vector<std::uint8_t> pre(Dim * n, 0), post(Dim * n, 0);
+  FieldArray<std::uint8_t> pre, post;
+  allocate_zeroed(pre, static_cast<std::size_t>(Dim * n));
+  allocate_zeroed(post, static_cast<std::size_t>(Dim * n));
   classify_relaxation(level, coarse_cells, pre, post, band_layers);
   const RowBuilder<Dim> builder(level.lattice, level.cells, material.mu(), sigma, inertia,
                                 level.cell_weight.empty() ? nullptr : &level.cell_weight,
