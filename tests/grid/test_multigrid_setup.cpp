@@ -2,9 +2,14 @@
 // singular coarsest level: Coarsening.PatchThatCoarsensIntoAHingeKeepsARepairedCoarseLevel.)
 #include <gtest/gtest.h>
 
+#include <random>
+
+#include "grid_test_support.hpp"
+#include "mgelastic/grid/boundary_smoother.hpp"
 #include "mgelastic/grid/box_problem.hpp"
 #include "mgelastic/grid/convergence_rate.hpp"
 #include "mgelastic/grid/multigrid.hpp"
+#include "mgelastic/grid/residual.hpp"
 
 namespace mgelastic::grid {
 namespace {
@@ -64,6 +69,38 @@ TEST(MultigridSetup, SolutionLevelSharesTheFinestLevelsVariableCodes) {
   EXPECT_EQ(copy.kind(0, 0), VarKind::INTERIOR);
   EXPECT_EQ(fine.kind(0, 0), VarKind::INACTIVE);  // the corner ghost point
   EXPECT_TRUE(mg.solve(1e-8, 30).converged);
+}
+
+// The solution level takes the finest level's codes instead of classifying again
+// (build_solution_level): it must be the level build_level gives for the same typing, loads
+// and boundary stress. Compared by what its rows and rules do: the traction faces they set and
+// the residual of random values, both bit for bit.
+TEST(MultigridSetup, SolutionLevelFromTheFinestCodesEqualsAFreshBuild) {
+  ElasticityProblem<3> problem = test::clamped_ball(20);
+  problem.boundary_stress = [](int i, int j, const Vec<3>& x) {
+    return i == j ? 300.0 * x[2] : 40.0 * x[i];
+  };
+  Multigrid<3, float> mg(problem);
+  ASSERT_GT(mg.levels(), 1);
+  Level<3, double> shared = mg.solution_level();
+  Level<3, double> fresh = build_level<3, double>(
+      problem.lattice, problem.cells, problem.material, problem.boundary_stress, &mg.level(1).cells,
+      problem.inertia, mg.options().band_layers, {}, 0.0, {}, true, LevelUse::RESIDUAL);
+  ASSERT_TRUE(fresh.codes.same_values(shared.codes));
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (int f = 0; f <= 3; ++f)
+    for (std::size_t k = 0; k < fresh.size(); ++k) {
+      const bool variable = fresh.kind(f, static_cast<std::ptrdiff_t>(k)) != VarKind::INACTIVE;
+      const double x = variable ? uniform(rng) : 0.0, b = variable ? uniform(rng) : 0.0;
+      shared.x[f][k] = fresh.x[f][k] = x;
+      shared.b[f][k] = fresh.b[f][k] = b;
+    }
+  back_substitute_traction(shared);
+  back_substitute_traction(fresh);
+  for (int f = 0; f <= 3; ++f) ASSERT_EQ(shared.x[f], fresh.x[f]) << "field " << f;
+  EXPECT_EQ(fresh_residual_norm(shared), fresh_residual_norm(fresh));
+  EXPECT_GT(fresh_residual_norm(fresh), 0.0);
 }
 
 // A plate 64 x 64 x 8 cells, held along one edge: its 16 x 16 x 2 level is all boundary cells

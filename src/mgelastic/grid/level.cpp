@@ -474,8 +474,8 @@ void build_band_rows(Level<Dim, Scalar>& level, const RowBuilder<Dim>& builder,
             const auto index = static_cast<std::uint32_t>(part.rows.rows());
             part.pressure.push_back(coupled);
             part.factor.push_back(factor);
-            if (pre[i * n + k]) part.pre.push_back(index);
-            if (post[i * n + k]) part.post.push_back(index);
+            if (!pre.empty() && pre[i * n + k]) part.pre.push_back(index);
+            if (!post.empty() && post[i * n + k]) part.post.push_back(index);
             append_row(part.rows, self, row, level.size());
             part.schur.push_back(static_cast<Scalar>(schur));
           }
@@ -798,14 +798,13 @@ void shrink_band_arrays(Level<Dim, Scalar>& level) {
   for (auto& rule : level.traction.thin) rule.neighbors.shrink_to_fit();
 }
 
+namespace {
+
 template <int Dim, typename Scalar>
-Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType> cells,
-                               const Material& material, const BoundaryStress<Dim>& sigma,
-                               const std::vector<CellType>* coarse_cells, double inertia,
-                               int band_layers, std::vector<double> cell_weight,
-                               double dirichlet_zero_depth,
-                               std::vector<std::uint8_t> dirichlet_wall_layers,
-                               bool release_dead_pages, LevelUse use) {
+Level<Dim, Scalar> level_of(const Lattice<Dim>& lattice, std::vector<CellType> cells,
+                            const Material& material, double inertia,
+                            std::vector<double> cell_weight, double dirichlet_zero_depth,
+                            std::vector<std::uint8_t> dirichlet_wall_layers) {
   Level<Dim, Scalar> level;
   level.dirichlet_zero_depth = dirichlet_zero_depth;
   level.dirichlet_wall_layers = std::move(dirichlet_wall_layers);
@@ -815,29 +814,30 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
   level.mu = static_cast<Scalar>(material.mu());
   level.lambda = static_cast<Scalar>(material.lambda());
   level.inertia = static_cast<Scalar>(inertia);
-  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(lattice.size());
-  const Classifier<Dim> classifier{level.lattice, level.cells};
-  level.codes.assign(static_cast<std::size_t>(n));
-  for (std::ptrdiff_t k = 0; k < n; ++k) {
-    for (int i = 0; i < Dim; ++i) level.codes.set_kind(i, k, classifier.face_kind(i, k));
-    if (classifier.interior(k)) level.codes.set_kind(Dim, k, VarKind::INTERIOR);
-  }
-  mark_traction_variables(level);
-  // Traction marking is the last change of INACTIVE: the live chunks are final here, and the
-  // fields are allocated one array at a time with their dead pages released at once. r stays
-  // empty until a residual array is asked for (residual.hpp: ensure_residual_storage); the
-  // V-cycle needs none (residual_restriction.hpp).
-  if (release_dead_pages) level.live = find_live_chunks<Dim>(level.lattice, level.codes);
-  // b is handed back whole until written (a load writes few of its fields, a coarse level's b
-  // is the restricted residual): the setup's peak holds one zero array less per field.
+  return level;
+}
+
+// x and b, zero. r stays empty until a residual array is asked for (residual.hpp:
+// ensure_residual_storage); the V-cycle needs none (residual_restriction.hpp). b is handed back
+// whole until written (a load writes few of its fields, a coarse level's b is the restricted
+// residual).
+template <int Dim, typename Scalar>
+void allocate_fields(Level<Dim, Scalar>& level, bool release_dead_pages) {
+  const std::size_t n = level.size();
   for (int f = 0; f <= Dim; ++f) {
     for (auto* field : {&level.x[f], &level.b[f]}) assign_zeros_sparse(*field, n, level.live);
     if (release_dead_pages) release_zero_pages(level.b[f], level.live);
   }
-  FieldArray<std::uint8_t> pre, post;
-  allocate_zeroed(pre, static_cast<std::size_t>(Dim * n));
-  allocate_zeroed(post, static_cast<std::size_t>(Dim * n));
-  classify_relaxation(level, coarse_cells, pre, post, band_layers);
+}
+
+// The band rows, their kernel and the traction rules from the level's variable codes; on a
+// level of the cycle also the band's blocks, schedule and runs. pre and post: the Fig. 8 flags
+// per variable (empty: none).
+template <int Dim, typename Scalar>
+void build_rows_and_rules(Level<Dim, Scalar>& level, const Material& material,
+                          const BoundaryStress<Dim>& sigma, double inertia,
+                          const FieldArray<std::uint8_t>& pre, const FieldArray<std::uint8_t>& post,
+                          LevelUse use) {
   const RowBuilder<Dim> builder(level.lattice, level.cells, material.mu(), sigma, inertia,
                                 level.cell_weight.empty() ? nullptr : &level.cell_weight,
                                 level.dirichlet_zero_depth, &level.dirichlet_wall_layers);
@@ -851,6 +851,51 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
     build_band_runs(level);
   }
   shrink_band_arrays(level);
+}
+
+}  // namespace
+
+template <int Dim, typename Scalar>
+Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType> cells,
+                               const Material& material, const BoundaryStress<Dim>& sigma,
+                               const std::vector<CellType>* coarse_cells, double inertia,
+                               int band_layers, std::vector<double> cell_weight,
+                               double dirichlet_zero_depth,
+                               std::vector<std::uint8_t> dirichlet_wall_layers,
+                               bool release_dead_pages, LevelUse use) {
+  Level<Dim, Scalar> level =
+      level_of<Dim, Scalar>(lattice, std::move(cells), material, inertia, std::move(cell_weight),
+                            dirichlet_zero_depth, std::move(dirichlet_wall_layers));
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(lattice.size());
+  const Classifier<Dim> classifier{level.lattice, level.cells};
+  level.codes.assign(static_cast<std::size_t>(n));
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    for (int i = 0; i < Dim; ++i) level.codes.set_kind(i, k, classifier.face_kind(i, k));
+    if (classifier.interior(k)) level.codes.set_kind(Dim, k, VarKind::INTERIOR);
+  }
+  mark_traction_variables(level);
+  // Traction marking is the last change of INACTIVE: the live chunks are final here.
+  if (release_dead_pages) level.live = find_live_chunks<Dim>(level.lattice, level.codes);
+  allocate_fields(level, release_dead_pages);
+  FieldArray<std::uint8_t> pre, post;
+  allocate_zeroed(pre, static_cast<std::size_t>(Dim * n));
+  allocate_zeroed(post, static_cast<std::size_t>(Dim * n));
+  classify_relaxation(level, coarse_cells, pre, post, band_layers);
+  build_rows_and_rules(level, material, sigma, inertia, pre, post, use);
+  return level;
+}
+
+template <int Dim, typename Scalar>
+Level<Dim, double> build_solution_level(const Level<Dim, Scalar>& finest, const Material& material,
+                                        const BoundaryStress<Dim>& sigma, double inertia,
+                                        bool release_dead_pages) {
+  Level<Dim, double> level =
+      level_of<Dim, double>(finest.lattice, finest.cells, material, inertia, finest.cell_weight,
+                            finest.dirichlet_zero_depth, finest.dirichlet_wall_layers);
+  level.codes.share_from(finest.codes);
+  if (release_dead_pages) level.live = finest.live;
+  allocate_fields(level, release_dead_pages);
+  build_rows_and_rules(level, material, sigma, inertia, {}, {}, LevelUse::RESIDUAL);
   return level;
 }
 
@@ -891,15 +936,17 @@ std::size_t Level<Dim, Scalar>::zero_load_bytes(int field) const {
   return bytes;
 }
 
-#define MGELASTIC_INSTANTIATE(D, S)                                                        \
-  template void release_zero_load_pages<D, S>(Level<D, S>&);                               \
-  template void rebuild_band_sweep_data<D, S>(Level<D, S>&);                               \
-  template struct Level<D, S>;                                                             \
-  template Level<D, S> build_level<D, S>(                                                  \
-      const Lattice<D>&, std::vector<CellType>, const Material&, const BoundaryStress<D>&, \
-      const std::vector<CellType>*, double, int, std::vector<double>, double,              \
-      std::vector<std::uint8_t>, bool, LevelUse);                                          \
-  template void set_dirichlet_values<D, S>(Level<D, S>&,                                   \
+#define MGELASTIC_INSTANTIATE(D, S)                                                             \
+  template void release_zero_load_pages<D, S>(Level<D, S>&);                                    \
+  template void rebuild_band_sweep_data<D, S>(Level<D, S>&);                                    \
+  template struct Level<D, S>;                                                                  \
+  template Level<D, S> build_level<D, S>(                                                       \
+      const Lattice<D>&, std::vector<CellType>, const Material&, const BoundaryStress<D>&,      \
+      const std::vector<CellType>*, double, int, std::vector<double>, double,                   \
+      std::vector<std::uint8_t>, bool, LevelUse);                                               \
+  template Level<D, double> build_solution_level<D, S>(const Level<D, S>&, const Material&,     \
+                                                       const BoundaryStress<D>&, double, bool); \
+  template void set_dirichlet_values<D, S>(Level<D, S>&,                                        \
                                            const std::function<Vec<D>(const Vec<D>&)>&);
 MGELASTIC_INSTANTIATE(2, float)
 MGELASTIC_INSTANTIATE(2, double)

@@ -263,6 +263,15 @@ Level<Dim, Scalar> build_level(const Lattice<Dim>& lattice, std::vector<CellType
                                std::vector<std::uint8_t> dirichlet_wall_layers = {},
                                bool release_dead_pages = true, LevelUse use = LevelUse::CYCLE);
 
+// The double solution level of a mixed-precision solve (LevelUse::RESIDUAL) for the cycle's
+// finest level: its lattice, typing and variable codes (shared, not recomputed: the codes depend
+// on the typing alone, not on the loads), its own double band rows and traction rules with the
+// boundary stress `sigma`.
+template <int Dim, typename Scalar>
+Level<Dim, double> build_solution_level(const Level<Dim, Scalar>& finest, const Material& material,
+                                        const BoundaryStress<Dim>& sigma, double inertia,
+                                        bool release_dead_pages = true);
+
 // Rebuilds what the band sweeps derive from band_u, its Schur diagonal and pressure factors (the
 // compact kernel, eliminated-cell blocks and their inverses, the colored schedule, the runs)
 // after the rows changed, e.g. to Galerkin rows (galerkin_band_rows.hpp). Needs the CSR rows.

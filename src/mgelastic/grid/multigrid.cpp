@@ -92,14 +92,6 @@ void drop_whole_band_schedules(Level<Dim, Scalar>& level) {
     level.post_prolongation_schedule = Schedule();
 }
 
-// The solution level is built from the finest level's lattice and typing, so its variable kinds
-// and relaxation classes are the float level's; it reads those instead of a second copy (checked,
-// so a typing that differed would keep its own).
-template <int Dim, typename Scalar>
-void share_variable_codes(const Level<Dim, Scalar>& fine, Level<Dim, double>& solution) {
-  if (solution.codes.same_values(fine.codes)) solution.codes.share_from(fine.codes);
-}
-
 // x into the finest level's unknowns (rounded to float in single precision), its live chunks only
 // (live_chunks.hpp: the rest holds no variable and stays zero, with its pages released).
 template <std::size_t Fields, typename T>
@@ -248,12 +240,10 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
         m_levels[m_levels.size() - 2], m_levels.back(),
         m_options.coarsest_operator == CoarsestOperator::GALERKIN_BAND);
   if (mixed_precision()) {
-    m_solution = std::make_unique<Level<Dim, double>>(build_level<Dim, double>(
-        lattices[0], cells[0], problem.material, problem.boundary_stress,
-        lattices.size() > 1 ? &cells[1] : nullptr, problem.inertia, m_options.band_layers, {}, 0.0,
-        {}, m_options.release_dead_pages, LevelUse::RESIDUAL));
+    m_solution = std::make_unique<Level<Dim, double>>(
+        build_solution_level(m_levels.front(), problem.material, problem.boundary_stress,
+                             problem.inertia, m_options.release_dead_pages));
     release_sweep_data(*m_solution);
-    share_variable_codes(m_levels.front(), *m_solution);
     set_dirichlet_values(*m_solution, problem.dirichlet_displacement);
     write_load_right_hand_side(problem, *m_solution);
     back_substitute_traction(*m_solution);
