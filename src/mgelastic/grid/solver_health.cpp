@@ -51,7 +51,10 @@ const char* phase_name(CyclePhase phase) {
 
 std::string format_history(const std::vector<double>& residuals) {
   std::string text;
-  for (double r : residuals) text += (text.empty() ? "" : " ") + number(r);
+  for (double r : residuals) {
+    if (!text.empty()) text += ' ';
+    text += number(r);
+  }
   return text;
 }
 
