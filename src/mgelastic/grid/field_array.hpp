@@ -12,7 +12,8 @@
 // the dead pages never hold memory.
 //
 // The catch: resize() into capacity that held values keeps those values. Fields are sized once,
-// by allocate_zeroed(), which releases the old storage first; nothing else grows them.
+// by allocate_zeroed() or assign_zeros_sparse() (live_chunks.hpp), which release the old storage
+// first; nothing else grows them.
 #include <cstdlib>
 #include <new>
 #include <type_traits>
