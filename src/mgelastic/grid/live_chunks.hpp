@@ -153,12 +153,12 @@ std::vector<std::pair<std::uintptr_t, std::uintptr_t>> released_stretches(const 
 template <typename T>
 std::size_t released_bytes(const FieldArray<T>& v, const LiveChunks& live);
 
-// Hands back the pages of v (a field laid out by assign_zeros_sparse or assign_on_huge_pages
-// with the same `live`) that hold only zero bytes and that released_stretches keeps: a whole
-// 2 MiB range where the field is on a huge page (a partly released huge page would keep its
-// memory), single 4 KiB pages elsewhere. They read as zero and hold no memory until written.
-// For right-hand sides, which a load leaves zero in whole fields (gravity along y: b of u_x,
-// u_z and p). Returns the released stretches (disjoint from released_stretches(v, live)).
+// Hands back the pages of v (a field laid out by assign_zeros_sparse with the same `live`) that
+// hold only zero bytes and that released_stretches keeps: a whole 2 MiB range where the field is on
+// a huge page (a partly released huge page would keep its memory), single 4 KiB pages elsewhere.
+// They read as zero and hold no memory until written. For right-hand sides, which a load leaves
+// zero in whole fields (gravity along y: b of u_x, u_z and p). Returns the released stretches
+// (disjoint from released_stretches(v, live)).
 template <typename T>
 std::vector<std::pair<std::uintptr_t, std::uintptr_t>> release_zero_pages(FieldArray<T>& v,
                                                                           const LiveChunks& live);

@@ -73,12 +73,16 @@ void add_velocity(io::Checkpoint& c, const std::array<grid::FieldArray<double>, 
   for (std::size_t f = 0; f < v.size(); ++f) c.add<double>("grid.v" + std::to_string(f), v[f]);
 }
 
+// Array `name` of checkpoint c as a field of `size` values (Checkpoint::get checks the length).
+grid::FieldArray<double> stored_field(const io::Checkpoint& c, const std::string& name,
+                                      std::size_t size) {
+  const std::vector<double> values = c.get<double>(name, static_cast<std::int64_t>(size));
+  return grid::FieldArray<double>(values.begin(), values.end());
+}
+
 void restore_velocity(const io::Checkpoint& c, std::array<grid::FieldArray<double>, 3>& v) {
-  for (std::size_t f = 0; f < v.size(); ++f) {
-    const std::vector<double> stored =
-        c.get<double>("grid.v" + std::to_string(f), static_cast<std::int64_t>(v[f].size()));
-    v[f].assign(stored.begin(), stored.end());
-  }
+  for (std::size_t f = 0; f < v.size(); ++f)
+    v[f] = stored_field(c, "grid.v" + std::to_string(f), v[f].size());
 }
 
 // Co-rotated model (CorotatedCarriedState): the finest rotations the frozen rows were built from
@@ -178,9 +182,7 @@ class HierarchySolver : public GridStepper::Solver {
     return hierarchy().solution_state();
   }
   void set_unknowns_state(const std::array<grid::FieldArray<double>, 4>& x) override {
-    typename grid::Multigrid<3, Scalar>::SolutionState state;
-    for (std::size_t f = 0; f < state.size(); ++f) state[f].assign(x[f].begin(), x[f].end());
-    hierarchy().set_solution_state(state);
+    hierarchy().set_solution_state(x);
   }
   const std::array<grid::FieldArray<double>, 4>& right_hand_side() const override {
     if (!hierarchy().single_precision()) return hierarchy().solution_level().b;
@@ -418,12 +420,10 @@ void GridStepper::save(io::Checkpoint& c, const std::vector<io::NamedArray>& att
 }
 
 void GridStepper::restore(const io::Checkpoint& c) {
-  auto x = m_solver->unknowns_state();
-  for (std::size_t f = 0; f < x.size(); ++f) {
-    const std::vector<double> stored =
-        c.get<double>("grid.x" + std::to_string(f), static_cast<std::int64_t>(x[f].size()));
-    x[f].assign(stored.begin(), stored.end());
-  }
+  const auto& now = m_solver->unknowns_state();
+  std::array<grid::FieldArray<double>, 4> x;
+  for (std::size_t f = 0; f < x.size(); ++f)
+    x[f] = stored_field(c, "grid.x" + std::to_string(f), now[f].size());
   m_solver->set_unknowns_state(x);
   m_solver->restore_carried(c);
   m_time = c.time;
@@ -463,11 +463,8 @@ void GridStepper::return_to_start(const io::Checkpoint& start) {
   // its load stepping starts from (CorotatedMultigrid::restore_carried_state).
   const auto& now = m_solver->right_hand_side();
   std::array<grid::FieldArray<double>, 4> b;
-  for (std::size_t f = 0; f < b.size(); ++f) {
-    const std::vector<double> stored =
-        start.get<double>(start_rhs_name(f), static_cast<std::int64_t>(now[f].size()));
-    b[f].assign(stored.begin(), stored.end());
-  }
+  for (std::size_t f = 0; f < b.size(); ++f)
+    b[f] = stored_field(start, start_rhs_name(f), now[f].size());
   m_solver->set_right_hand_side(b);
   restore(start);
 }
