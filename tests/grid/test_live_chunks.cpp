@@ -14,6 +14,7 @@
 #include "mgelastic/grid/box_problem.hpp"
 #include "mgelastic/grid/live_chunks.hpp"
 #include "mgelastic/grid/multigrid.hpp"
+#include "mgelastic/grid/residual.hpp"
 
 namespace mgelastic::grid {
 namespace {
@@ -225,6 +226,29 @@ TEST(LiveChunks, ZeroLoadPagesAreReleasedAndStayUnwritten) {
   std::size_t again = 0;
   for (int f = 0; f <= 3; ++f) again += solution.zero_load_bytes(f);
   EXPECT_EQ(again, zero_bytes);
+}
+
+// The fields whose loads are zero (gravity along y: u_x, u_z, p) are recorded, and the residual
+// does not read their b; it equals the residual that reads every b. A caller's write through
+// solution_level() forgets the record, so the residual sees the new load.
+TEST(LiveChunks, ZeroLoadFieldsAreNotReadUntilWritten) {
+  const ElasticityProblem<3> problem = gravity_box(0.45);
+  Multigrid<3, float> mg(problem);
+  const Level<3, double>& solution = std::as_const(mg).solution_level();
+  EXPECT_EQ(solution.zero_load, (std::array<bool, 4>{true, false, true, true}));
+  Level<3, double> reads_every_b = solution;
+  reads_every_b.zero_load = {};
+  const double before = mg.residual();
+  EXPECT_EQ(before, fresh_residual_norm(reads_every_b));
+  Level<3, double>& writable = mg.solution_level();
+  EXPECT_EQ(writable.zero_load, (std::array<bool, 4>{}));
+  std::ptrdiff_t k = 0;
+  while (writable.relaxation(0, k) != Relaxation::DISTRIBUTIVE) ++k;
+  writable.b[0][k] = 1.0;
+  reads_every_b.b[0][k] = 1.0;
+  const double norm = mg.residual();
+  EXPECT_EQ(norm, fresh_residual_norm(reads_every_b));
+  EXPECT_NE(norm, before);
 }
 
 // Single precision: the float finest level holds the solution and its b the loads; level() (the

@@ -185,10 +185,11 @@ PhaseSeconds cycle_bytes(const Multigrid<Dim, Scalar>& mg) {
   const Level<Dim, double>& solution = mg.solution_level();
   const double n = static_cast<double>(solution.size());
   double residual_and_norm = residual_bytes(solution) + norm_bytes(solution);
-  // b's pages released as all-zero (release_zero_load_pages) read the shared zero page: no
-  // memory traffic.
+  // b of a field recorded as zero (Level::zero_load) is not read; elsewhere b's pages released
+  // as all-zero (record_zero_loads) read the shared zero page: no memory traffic either.
   for (int f = 0; f <= Dim; ++f)
-    residual_and_norm -= static_cast<double>(solution.zero_load_bytes(f));
+    residual_and_norm -=
+        solution.zero_load[f] ? 8 * n : static_cast<double>(solution.zero_load_bytes(f));
   if (static_cast<const void*>(&solution) != static_cast<const void*>(&mg.finest())) {
     // Zero the float correction; add it (kind, e, x read + written); the residual is written
     // to and its norm read from the float level's b (residual_into), not a double r.

@@ -924,9 +924,12 @@ void set_dirichlet_values(Level<Dim, Scalar>& level,
 }
 
 template <int Dim, typename Scalar>
-void release_zero_load_pages(Level<Dim, Scalar>& level) {
-  for (int f = 0; f <= Dim; ++f)
-    level.zero_load_pages[f] = release_zero_pages(level.b[f], level.live);
+void record_zero_loads(Level<Dim, Scalar>& level, bool release_pages) {
+  level.forget_zero_loads();
+  for (int f = 0; f <= Dim; ++f) {
+    level.zero_load[f] = zero_where_live(level.b[f], level.live);
+    if (release_pages) level.zero_load_pages[f] = release_zero_pages(level.b[f], level.live);
+  }
 }
 
 template <int Dim, typename Scalar>
@@ -937,7 +940,7 @@ std::size_t Level<Dim, Scalar>::zero_load_bytes(int field) const {
 }
 
 #define MGELASTIC_INSTANTIATE(D, S)                                                             \
-  template void release_zero_load_pages<D, S>(Level<D, S>&);                                    \
+  template void record_zero_loads<D, S>(Level<D, S>&, bool);                                    \
   template void rebuild_band_sweep_data<D, S>(Level<D, S>&);                                    \
   template struct Level<D, S>;                                                                  \
   template Level<D, S> build_level<D, S>(                                                       \

@@ -162,10 +162,18 @@ struct Level {
   // The stretches of x, b and r that hold or border a variable (live_chunks.hpp); outside them
   // the fields are zero with their pages released, and the passes over whole arrays skip them.
   LiveChunks live;
-  // Per field, the stretches [begin, end) of b's pages that release_zero_load_pages handed back
+  // Per field, the stretches [begin, end) of b's pages that record_zero_loads handed back
   // because they held only zeros (beyond the dead chunks'); cleared once a writer may have
   // filled them again, so the memory accounting counts them then.
   FieldStretches<Dim + 1> zero_load_pages;
+  // Per field: b held only zeros when the loads were recorded (record_zero_loads; gravity along
+  // y leaves b of u_x, u_z and p zero), so the residual reads no b there. Forgotten with
+  // zero_load_pages (forget_zero_loads) once a writer may fill b again.
+  std::array<bool, Dim + 1> zero_load{};
+  void forget_zero_loads() {
+    zero_load_pages.clear();
+    zero_load = {};
+  }
   std::size_t zero_load_bytes(int field) const;
   // Each variable's kind and relaxation, two bits each in one code per cell (var_codes.hpp);
   // the double solution level of a mixed-precision solve shares them with the float finest.
@@ -283,11 +291,12 @@ template <int Dim, typename Scalar>
 void set_dirichlet_values(Level<Dim, Scalar>& level,
                           const std::function<Vec<Dim>(const Vec<Dim>&)>& displacement);
 
-// Hands back the pages of b that hold only zeros (release_zero_pages, live_chunks.hpp) and
-// records them in zero_load_pages. For a right-hand side that only its loads write (the level
-// holding the solution: the double solution level of a mixed-precision solve, else the finest):
-// gravity along y leaves b of u_x, u_z and p zero, 3/4 of its bytes.
+// For a right-hand side that only its loads write (the level holding the solution: the double
+// solution level of a mixed-precision solve, else the finest): records which fields of b hold
+// only zeros (zero_load) and, with release_pages, hands back the pages of b that hold only zeros
+// (release_zero_pages, live_chunks.hpp) and records them in zero_load_pages. Gravity along y
+// leaves b of u_x, u_z and p zero, 3/4 of its bytes.
 template <int Dim, typename Scalar>
-void release_zero_load_pages(Level<Dim, Scalar>& level);
+void record_zero_loads(Level<Dim, Scalar>& level, bool release_pages);
 
 }  // namespace mgelastic::grid

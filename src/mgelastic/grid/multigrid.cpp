@@ -252,18 +252,17 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
     write_load_right_hand_side(problem, m_levels.front());
     back_substitute_traction(m_levels.front());
   }
-  release_zero_loads();
+  record_zero_loads();
 }
 
 // Only loads write the b of the level holding the solution (solution_level() and level(), the
 // mutable accesses, forget the record).
 template <int Dim, typename Scalar>
-void Multigrid<Dim, Scalar>::release_zero_loads() {
-  if (!m_options.release_dead_pages) return;
+void Multigrid<Dim, Scalar>::record_zero_loads() {
   if (m_solution)
-    release_zero_load_pages(*m_solution);
+    grid::record_zero_loads(*m_solution, m_options.release_dead_pages);
   else
-    release_zero_load_pages(m_levels.front());
+    grid::record_zero_loads(m_levels.front(), m_options.release_dead_pages);
 }
 
 template <int Dim, typename Scalar>
@@ -321,7 +320,7 @@ void Multigrid<Dim, Scalar>::set_loads(const ElasticityProblem<Dim>& problem) {
   } else {
     replace_loads(m_levels.front(), problem);
   }
-  release_zero_loads();
+  record_zero_loads();
   m_solution_residual_current = false;
 }
 

@@ -87,7 +87,7 @@ struct MultigridOptions {
   bool mixed_precision = true;
   // Hand the pages of the fields that hold no variable (most of an embedded body's bounding
   // box) back to the operating system and skip them in whole-array passes (live_chunks.hpp),
-  // and the pages of the loads that hold only zeros (release_zero_load_pages).
+  // and the pages of the loads that hold only zeros (record_zero_loads).
   // The same results either way; false is for comparisons.
   bool release_dead_pages = true;
 };
@@ -180,7 +180,7 @@ class Multigrid {
   Level<Dim, Scalar>& level(int l) {
     m_solution_residual_current = false;  // the caller may change the finest level's b
     // ... and write into its released zero load pages: count them again (conservative).
-    m_levels[l].zero_load_pages.clear();
+    m_levels[l].forget_zero_loads();
     return m_levels[l];
   }
   const Level<Dim, Scalar>& level(int l) const { return m_levels[l]; }
@@ -237,8 +237,9 @@ class Multigrid {
     // embedded body's gravity load leaves three of its four fields zero at the start).
     std::array<bool, Dim + 1> zero{};
   };
-  // release_zero_load_pages on the level that holds the loads (the solution's), if enabled.
-  void release_zero_loads();
+  // record_zero_loads on the level that holds the loads (the solution's); its pages released if
+  // release_dead_pages.
+  void record_zero_loads();
   // solution_level() for this class's own writes of x alone: keeps b's zero-page record.
   Level<Dim, double>& solution_storage();
   StartState capture_start() const;

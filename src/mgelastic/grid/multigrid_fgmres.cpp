@@ -21,7 +21,7 @@ Level<Dim, double>& Multigrid<Dim, Scalar>::solution_level() {
   m_solution_residual_current = false;  // the caller may change x or b
   Level<Dim, double>& level = solution_storage();
   // b's released zero pages may be written from now on: count them again (conservative).
-  level.zero_load_pages.clear();
+  level.forget_zero_loads();
   return level;
 }
 

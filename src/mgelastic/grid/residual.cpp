@@ -68,7 +68,8 @@ struct StencilResidual {
     const Scalar inv_h = static_cast<Scalar>(1.0 / level.lattice.h);
     c = {level.mu, inv_h, inv_h * inv_h};
     codes = level.codes.data();
-    for (int f = 0; f <= Dim; ++f) b[f] = level.b[f].data();
+    // A field recorded as zero (Level::zero_load) is read as nullptr: no read of its pages.
+    for (int f = 0; f <= Dim; ++f) b[f] = level.zero_load[f] ? nullptr : level.b[f].data();
     p = level.x[Dim].data();
     inertia = level.inertia;
     mu = level.mu;
@@ -90,14 +91,18 @@ struct StencilResidual {
       for (int f = 0; f <= Dim; ++f) std::fill(r[f] + begin, r[f] + begin + m, Out(0));
       return;
     }
+    // The chunk's loads, a zero field's from a block of zeros (in L1).
+    alignas(64) static const Scalar zeros[residual_chunk] = {};
+    std::array<const Scalar*, Dim + 1> load;
+    for (int f = 0; f <= Dim; ++f) load[f] = b[f] ? b[f] + begin : zeros;
     alignas(64) Scalar value[Dim + 1][residual_chunk];
     for (std::ptrdiff_t i = 0; i < m; ++i) {
       const std::ptrdiff_t k = begin + i;
-      value[0][i] = b[0][k] - momentum_row<Dim, Scalar, 0>(u, p, s, k, c) + inertia * u[0][k];
-      value[1][i] = b[1][k] - momentum_row<Dim, Scalar, 1>(u, p, s, k, c) + inertia * u[1][k];
+      value[0][i] = load[0][i] - momentum_row<Dim, Scalar, 0>(u, p, s, k, c) + inertia * u[0][k];
+      value[1][i] = load[1][i] - momentum_row<Dim, Scalar, 1>(u, p, s, k, c) + inertia * u[1][k];
       if constexpr (Dim == 3)
-        value[2][i] = b[2][k] - momentum_row<Dim, Scalar, 2>(u, p, s, k, c) + inertia * u[2][k];
-      value[Dim][i] = b[Dim][k] - mu * divergence<Dim, Scalar>(u, s, k, c.inv_h) - d * p[k];
+        value[2][i] = load[2][i] - momentum_row<Dim, Scalar, 2>(u, p, s, k, c) + inertia * u[2][k];
+      value[Dim][i] = load[Dim][i] - mu * divergence<Dim, Scalar>(u, s, k, c.inv_h) - d * p[k];
     }
     for (int f = 0; f <= Dim; ++f) {
       const VarCode* cf = codes + begin;
@@ -155,13 +160,19 @@ void stencil_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Di
   }
 }
 
+// b at (field, k), without reading a field recorded as zero (Level::zero_load).
+template <int Dim, typename Scalar>
+Scalar load_at(const Level<Dim, Scalar>& level, int field, std::size_t k) {
+  return level.zero_load[field] ? Scalar(0) : level.b[field][k];
+}
+
 // The residual of band momentum row m (compact form, band_kernel.hpp; the CSR rows may be
 // dropped) and of band pressure row m (d0 = mu^2 / lambda).
 template <int Dim, typename Scalar>
 Scalar band_momentum_residual(const Level<Dim, Scalar>& level, std::size_t m) {
   const BandKernel<Scalar>& kernel = level.band_kernel;
   const std::uint32_t k = kernel.target[m];
-  return level.b[kernel.field[m]][k] - kernel.constant[m] - kernel.row_sum(level.x, m);
+  return load_at(level, kernel.field[m], k) - kernel.constant[m] - kernel.row_sum(level.x, m);
 }
 template <int Dim, typename Scalar>
 Scalar band_pressure_residual(const Level<Dim, Scalar>& level, std::size_t m, Scalar d0) {
@@ -170,7 +181,8 @@ Scalar band_pressure_residual(const Level<Dim, Scalar>& level, std::size_t m, Sc
   for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e)
     sum += rows.value[e] * level.x[rows.column_field[e]][rows.column_index[e]];
   const std::uint32_t k = rows.target_index[m];
-  return level.b[Dim][k] - rows.constant[m] - sum - (d0 + level.band_p_extra[m]) * level.x[Dim][k];
+  return load_at(level, Dim, k) - rows.constant[m] - sum -
+         (d0 + level.band_p_extra[m]) * level.x[Dim][k];
 }
 
 // Band rows; with `squares`, also the sum of their squared residuals (before rounding to Out),
