@@ -205,7 +205,7 @@ void expect_schedule_holds(const Level<Dim, float>& level,
 
 TEST(BandSmoother, RelocationSchedulesHoldTheFig8RowsBlockByBlock) {
   BoxSpec spec;
-  spec.cells = 40;  // blocks of 64 x 8 x 8 cells, cut by the box
+  spec.cells = 40;  // blocks of 128 x 8 x 8 cells, cut by the box
   spec.poisson_ratio = 0.48;
   const ElasticityProblem<3> problem = make_box_problem<3>(spec);
   const std::vector<CellType> coarse_cells = coarsen_cells(problem.lattice, problem.cells);
@@ -346,7 +346,7 @@ double band_residual_norm(Level<Dim, double> level) {
 // more than 10x on the mixed box and an embedded ball, with runs and single rows).
 TEST(BandSweepOrder, OneSweepIsTheSameThreeSweepsConvergeAlike) {
   BoxSpec spec;
-  spec.cells = 24;  // blocks of 64 x 8 x 8: three blocks along y and z, eight colors used
+  spec.cells = 24;  // blocks of 128 x 8 x 8: three along y and z, four colors used
   spec.poisson_ratio = 0.48;
   const std::array<ElasticityProblem<3>, 2> problems = {make_box_problem<3>(spec),
                                                         test::clamped_ball(24)};

@@ -45,7 +45,7 @@ TEST(CorotatedBandSmoother, EqualsTheLinearBandSmootherAtIdentityRotations) {
 }
 
 // After the first cycle the rotations differ from I (the bar bends), so the second cycle's band
-// rows carry the edge-averaged pressure couplings. 24 x 17 x 17 cells: 9 blocks of 64 x 8 x 8,
+// rows carry the edge-averaged pressure couplings. 24 x 17 x 17 cells: 9 blocks of 128 x 8 x 8,
 // several per colour, relaxed concurrently by two threads.
 TEST(CorotatedBandSmoother, CyclesDoNotDependOnTheThreadCount) {
   ElasticityProblem<3> problem = test::bar(24, 17, 1.0 / 24, 1, Material{1.0, 0.45});

@@ -45,7 +45,7 @@ TEST(CorotatedDistributiveSmoother, EqualsTheLinearDistributiveSweepAtIdentityRo
   }
 }
 
-// 24 x 17 x 17 cells: 9 blocks of 64 x 8 x 8, so colours hold several blocks that two threads
+// 24 x 17 x 17 cells: 9 blocks of 128 x 8 x 8, so colours hold several blocks that two threads
 // relax concurrently.
 TEST(CorotatedDistributiveSmoother, CyclesDoNotDependOnTheThreadCount) {
   ElasticityProblem<3> problem = test::bar(24, 17, 1.0 / 24, 1, Material{1.0, 0.45});

@@ -44,7 +44,7 @@ template <typename Scalar>
 struct BandKernel;
 
 inline constexpr int kBandRunMaxLag = 2;      // couplings C_1..C_J kept per shape
-inline constexpr int kBandRunMaxLength = 64;  // longest run (the blocks are 64 cells wide)
+inline constexpr int kBandRunMaxLength = 64;  // longest run (a block row is up to 128 cells)
 inline constexpr int kBandRunMinLength = 4;   // shorter runs are relaxed step by step
 
 template <int Dim, typename Scalar>

@@ -9,10 +9,13 @@ IVec<2> default_block_size<2>() {
 
 // Long x-rows: the sweeps stream each block row by row, and at 128^3 rows of 16 cells (one
 // cache line per field) left the hardware prefetchers idle; 64 made the distributive and band
-// sweeps about 1.8x and 1.4x cheaper at the same convergence rate (docs/performance.md).
+// sweeps about 1.8x and 1.4x cheaper at the same convergence rate (docs/performance.md), and
+// 128 x 8 x 8 the distributive sweep another 12-22 % (128^3 box and armadillo at 256 cells,
+// 1 and 2 threads; the same rates). 128 x 8 x 4 (half the footprint) was as fast, but its thin
+// blocks made the block-local band order a weaker smoother (BandSweepOrder test).
 template <>
 IVec<3> default_block_size<3>() {
-  return IVec<3>(64, 8, 8);
+  return IVec<3>(128, 8, 8);
 }
 
 template <int Dim>

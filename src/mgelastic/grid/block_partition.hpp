@@ -1,6 +1,6 @@
 #pragma once
 // Colored rectangular blocks for multithreaded Gauss-Seidel (Sec. 9.4, Fig. 19): the real cells
-// of a lattice are cut into blocks (default 64 x 8 x 8 cells; 16 x 16 in 2D) and each block gets
+// of a lattice are cut into blocks (default 128 x 8 x 8 cells; 16 x 16 in 2D) and each block gets
 // the color given by the parity of its block index along every axis, 2^d colors. Two blocks of
 // one color are at least one block apart, wider than any stencil's reach (2 cells), so blocks of
 // one color are relaxed concurrently without locks. The traversal order is fixed, so results do
