@@ -1,21 +1,28 @@
 #include "mgelastic/grid/block_partition.hpp"
 
+#include <algorithm>
+
 namespace mgelastic::grid {
 
 template <>
-IVec<2> default_block_size<2>() {
+IVec<2> default_block_size<2>(const Lattice<2>&) {
   return IVec<2>(16, 16);
 }
 
 // Long x-rows: the sweeps stream each block row by row, and at 128^3 rows of 16 cells (one
 // cache line per field) left the hardware prefetchers idle; 64 made the distributive and band
-// sweeps about 1.8x and 1.4x cheaper at the same convergence rate (docs/performance.md), and
-// 128 x 8 x 8 the distributive sweep another 12-22 % (128^3 box and armadillo at 256 cells,
-// 1 and 2 threads; the same rates). 128 x 8 x 4 (half the footprint) was as fast, but its thin
-// blocks made the block-local band order a weaker smoother (BandSweepOrder test).
+// sweeps about 1.8x and 1.4x cheaper at the same convergence rate (docs/performance.md), whole
+// rows of 128 the distributive sweep another 12-22 % (128^3 box, armadillo at 256 cells) and of
+// 256 another 22 % (256^3 box), at the same rates. So a block takes whole lattice rows (up to
+// kMaxBlockRow, which keeps blocks for many threads) and 8 rows along y; along z as many layers
+// (2 to 8) as keep it near kBlockCells, whose fields stay in a core's L2 cache through the
+// sweep's four passes. Thinner blocks (128 x 8 x 4) made the block-local band order a weaker
+// smoother (BandSweepOrder test).
 template <>
-IVec<3> default_block_size<3>() {
-  return IVec<3>(128, 8, 8);
+IVec<3> default_block_size<3>(const Lattice<3>& lattice) {
+  constexpr int kMaxBlockRow = 512, kBlockCells = 16384;
+  const int row = std::clamp(lattice.cells[0], 1, kMaxBlockRow);
+  return IVec<3>(row, 8, std::clamp(kBlockCells / (8 * row), 2, 8));
 }
 
 template <int Dim>

@@ -1,10 +1,10 @@
 #pragma once
 // Colored rectangular blocks for multithreaded Gauss-Seidel (Sec. 9.4, Fig. 19): the real cells
-// of a lattice are cut into blocks (default 128 x 8 x 8 cells; 16 x 16 in 2D) and each block gets
-// the color given by the parity of its block index along every axis, 2^d colors. Two blocks of
-// one color are at least one block apart, wider than any stencil's reach (2 cells), so blocks of
-// one color are relaxed concurrently without locks. The traversal order is fixed, so results do
-// not depend on the thread count.
+// of a lattice are cut into blocks (whole lattice rows along x, 8 cells along y, 2-8 along z; 16 x
+// 16 in 2D) and each block gets the color given by the parity of its block index along every axis,
+// 2^d colors. Two blocks of one color are at least one block apart, wider than any stencil's reach
+// (2 cells), so blocks of one color are relaxed concurrently without locks. The traversal order is
+// fixed, so results do not depend on the thread count.
 #include <array>
 #include <vector>
 
@@ -28,12 +28,16 @@ struct BlockPartition {
   int color_of(const IVec<Dim>& s) const;
 };
 
+// The block shape for a lattice (block_partition.cpp says why).
 template <int Dim>
-IVec<Dim> default_block_size();
+IVec<Dim> default_block_size(const Lattice<Dim>& lattice);
 
 template <int Dim>
-BlockPartition<Dim> partition_into_blocks(const Lattice<Dim>& lattice,
-                                          const IVec<Dim>& block_size = default_block_size<Dim>());
+BlockPartition<Dim> partition_into_blocks(const Lattice<Dim>& lattice, const IVec<Dim>& block_size);
+template <int Dim>
+BlockPartition<Dim> partition_into_blocks(const Lattice<Dim>& lattice) {
+  return partition_into_blocks(lattice, default_block_size(lattice));
+}
 
 // Calls f(k) for every flat index of the block in lexicographic order (x fastest).
 template <int Dim, typename F>

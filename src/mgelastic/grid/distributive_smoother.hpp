@@ -13,7 +13,7 @@
 // A sweep visits the colored blocks (Sec. 9.4; colors in turn, the blocks of one color in
 // parallel) and relaxes in each block u_1, u_2, (u_3), then p, in this exact order, over equations
 // marked DISTRIBUTIVE. Block by block rather than field by field over the level: a block's fields
-// (128 x 8 x 8 cells, ~280 KB in float) stay in cache through its four passes, so the sweep reads
+// (whole lattice rows, up to ~16 Ki cells, ~560 KB in float) stay in cache through its four passes, so the sweep reads
 // x, b and the relaxation codes from memory once instead of once per pass. The psi rows do not
 // see q steps (L M is lower triangular), so only a block's q rows at its border read neighbours
 // that the field-by-field order would have relaxed further.
