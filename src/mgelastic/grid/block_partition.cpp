@@ -13,16 +13,18 @@ IVec<2> default_block_size<2>(const Lattice<2>&) {
 // cache line per field) left the hardware prefetchers idle; 64 made the distributive and band
 // sweeps about 1.8x and 1.4x cheaper at the same convergence rate (docs/performance.md), whole
 // rows of 128 the distributive sweep another 12-22 % (128^3 box, armadillo at 256 cells) and of
-// 256 another 22 % (256^3 box), at the same rates. So a block takes whole lattice rows (up to
-// kMaxBlockRow, which keeps blocks for many threads) and 8 rows along y; along z as many layers
-// (2 to 8) as keep it near kBlockCells, whose fields stay in a core's L2 cache through the
-// sweep's four passes. Thinner blocks (128 x 8 x 4) made the block-local band order a weaker
-// smoother (BandSweepOrder test).
+// 256 another 22 % (256^3 box), at the same rates. Whole rows make a block's rows of one layer one
+// stretch of memory, and 16 of them (128^3) cut the cycle another 9 %. So a block takes whole
+// lattice rows (up to kMaxBlockRow, which keeps blocks for many threads), as many rows along y
+// (4 to 16) as make a layer about kLayerCells, and 8 layers along z (fewer where that passes
+// kBlockCells, whose fields stay in a core's L2 cache through the sweep's four passes). Thin
+// blocks (128 x 8 x 4) made the block-local band order a weaker smoother (BandSweepOrder test).
 template <>
 IVec<3> default_block_size<3>(const Lattice<3>& lattice) {
-  constexpr int kMaxBlockRow = 512, kBlockCells = 16384;
+  constexpr int kMaxBlockRow = 512, kLayerCells = 2048, kBlockCells = 16384;
   const int row = std::clamp(lattice.cells[0], 1, kMaxBlockRow);
-  return IVec<3>(row, 8, std::clamp(kBlockCells / (8 * row), 2, 8));
+  const int rows = std::clamp(kLayerCells / row, 4, 16);
+  return IVec<3>(row, rows, std::clamp(kBlockCells / (row * rows), 2, 8));
 }
 
 template <int Dim>

@@ -1,10 +1,10 @@
 #pragma once
 // Colored rectangular blocks for multithreaded Gauss-Seidel (Sec. 9.4, Fig. 19): the real cells
-// of a lattice are cut into blocks (whole lattice rows along x, 8 cells along y, 2-8 along z; 16 x
-// 16 in 2D) and each block gets the color given by the parity of its block index along every axis,
-// 2^d colors. Two blocks of one color are at least one block apart, wider than any stencil's reach
-// (2 cells), so blocks of one color are relaxed concurrently without locks. The traversal order is
-// fixed, so results do not depend on the thread count.
+// of a lattice are cut into blocks (whole lattice rows along x, 4-16 rows along y, 2-8 layers
+// along z; 16 x 16 in 2D) and each block gets the color given by the parity of its block index
+// along every axis, 2^d colors. Two blocks of one color are at least one block apart, wider than
+// any stencil's reach (2 cells), so blocks of one color are relaxed concurrently without locks. The
+// traversal order is fixed, so results do not depend on the thread count.
 #include <array>
 #include <vector>
 
