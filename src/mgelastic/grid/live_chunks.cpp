@@ -132,25 +132,22 @@ void assign_zeros_sparse(FieldArray<T>& v, std::size_t n, const LiveChunks& live
   // pass first writes, so the dead ones hold no memory. No huge page may hold a dead page (where
   // the system's THP mode is "always" too): a partly written huge page takes its whole 2 MiB, and
   // khugepaged would fill it. So: no huge pages, then huge pages on the huge ranges.
-  FieldArray<T>().swap(v);
-  v.reserve(n);
-  const auto base = reinterpret_cast<std::uintptr_t>(v.data());
+  allocate_zeroed(v, n);
   if (live.all_live()) {
     advise_huge_pages(v.data(), n * sizeof(T));
-  } else {
-    const std::uintptr_t page = page_bytes();
-    const std::uintptr_t end = base + n * sizeof(T);
-    const std::uintptr_t first_page = (base + page - 1) & ~(page - 1);
-#ifdef MADV_NOHUGEPAGE
-    if (end > first_page)
-      madvise(reinterpret_cast<void*>(first_page), end - first_page, MADV_NOHUGEPAGE);
-#endif
-    for (std::uintptr_t h = (base + kHugePage - 1) & ~(kHugePage - 1); h + kHugePage <= end;
-         h += kHugePage)
-      if (huge_range<T>(base, n, live, h)) advise_huge_pages(reinterpret_cast<void*>(h), kHugePage);
+    return;
   }
-  v.resize(n);  // in the fresh storage reserved above: zeros, no write (field_array.hpp)
-  if (live.all_live()) return;
+  const auto base = reinterpret_cast<std::uintptr_t>(v.data());
+  const std::uintptr_t page = page_bytes();
+  const std::uintptr_t end = base + n * sizeof(T);
+  const std::uintptr_t first_page = (base + page - 1) & ~(page - 1);
+#ifdef MADV_NOHUGEPAGE
+  if (end > first_page)
+    madvise(reinterpret_cast<void*>(first_page), end - first_page, MADV_NOHUGEPAGE);
+#endif
+  for (std::uintptr_t h = (base + kHugePage - 1) & ~(kHugePage - 1); h + kHugePage <= end;
+       h += kHugePage)
+    if (huge_range<T>(base, n, live, h)) advise_huge_pages(reinterpret_cast<void*>(h), kHugePage);
   // Where calloc handed out heap memory (below the mmap threshold, heap_policy.hpp) it wrote its
   // zeros: the dead pages go back.
   for_each_dead_stretch<T>(base, n, live, [](std::uintptr_t p0, std::uintptr_t p1) {
