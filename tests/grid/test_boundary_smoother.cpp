@@ -372,5 +372,29 @@ TEST(BandSweepOrder, OneSweepIsTheSameThreeSweepsConvergeAlike) {
   }
 }
 
+// BandRhs (boundary_smoother.hpp): a CURRENT call reads the right-hand sides of the last
+// refresh and not b, so it equals a REFRESH call exactly when b has not changed since, and still
+// sweeps against the refreshed b after b changed; a REFRESH call sees the new b.
+TEST(BandRhs, CurrentCallsReadTheLastRefresh) {
+  const ElasticityProblem<3> problem = test::clamped_ball(16);
+  Level<3, double> start = randomized_finest(problem);
+  refresh_band_rhs(start);
+  Level<3, double> current = start, fresh = start;
+  band_gauss_seidel(current, 2, BandSweepOrder::BLOCK_LOCAL, BandRhs::CURRENT);
+  band_gauss_seidel(fresh, 2, BandSweepOrder::BLOCK_LOCAL, BandRhs::REFRESH);
+  EXPECT_EQ(max_abs_difference(current, fresh), 0.0);
+
+  // Change b at every band row's own variable: only the REFRESH call sees it.
+  Level<3, double> changed = start;
+  const BandKernel<double>& kernel = changed.band_kernel;
+  for (std::size_t m = 0; m < kernel.rows(); ++m)
+    changed.b[kernel.field[m]][kernel.target[m]] += 1e3;
+  Level<3, double> stale = changed, refreshed = changed;
+  band_gauss_seidel(stale, 2, BandSweepOrder::BLOCK_LOCAL, BandRhs::CURRENT);
+  band_gauss_seidel(refreshed, 2, BandSweepOrder::BLOCK_LOCAL, BandRhs::REFRESH);
+  EXPECT_EQ(max_abs_difference(stale, current), 0.0) << "CURRENT must not read b";
+  EXPECT_GT(max_abs_difference(refreshed, current), 0.0) << "REFRESH must read b";
+}
+
 }  // namespace
 }  // namespace mgelastic::grid

@@ -27,11 +27,12 @@ Scalar band_rhs(const Level<Dim, Scalar>& level, std::size_t m) {
 }
 
 // The kernel is derived from band_u: rebuilt when band_u changed (tests edit levels), never when
-// band_u's CSR was dropped (drop_band_csr).
+// band_u's CSR was dropped (drop_band_csr). Returns whether it was rebuilt (its rhs then too).
 template <int Dim, typename Scalar>
-void refresh_band_kernel(Level<Dim, Scalar>& level) {
-  if (level.band_u.rows() != 0 && level.band_kernel.rows() != level.band_u.rows())
-    build_band_kernel(level);
+bool refresh_band_kernel(Level<Dim, Scalar>& level) {
+  if (level.band_u.rows() == 0 || level.band_kernel.rows() == level.band_u.rows()) return false;
+  build_band_kernel(level);
+  return true;
 }
 
 template <int Dim, typename Scalar>
@@ -124,20 +125,16 @@ void relax_block_items(const Level<Dim, Scalar>& level, const BandSweep<Dim, Sca
   }
 }
 
-// kernel.rhs[m] = b - constant of row m (b is fixed during the sweeps).
+}  // namespace
+
 template <int Dim, typename Scalar>
-void refresh_band_rhs(Level<Dim, Scalar>& level, const std::vector<std::uint32_t>* subset) {
+void refresh_band_rhs(Level<Dim, Scalar>& level) {
+  refresh_band_kernel(level);
   auto& rhs = level.band_kernel.rhs;
-  if (subset) {
-    for (std::uint32_t m : *subset) rhs[m] = band_rhs(level, m);
-    return;
-  }
   const auto count = static_cast<std::ptrdiff_t>(level.band_kernel.rows());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t m = 0; m < count; ++m) rhs[m] = band_rhs(level, m);
 }
-
-}  // namespace
 
 BandSweepOrder band_sweep_order(const std::string& name) {
   if (name == "auto") return BandSweepOrder::AUTOMATIC;
@@ -160,10 +157,14 @@ void update_band_pressures(Level<Dim, Scalar>& level) {
 
 template <int Dim, typename Scalar>
 void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps,
-                       const std::vector<std::uint32_t>* subset, BandSweepOrder order) {
+                       const std::vector<std::uint32_t>* subset, BandSweepOrder order,
+                       BandRhs rhs) {
   update_band_pressures(level);
-  refresh_band_kernel(level);
-  refresh_band_rhs(level, subset);
+  const bool rebuilt = refresh_band_kernel(level);
+  if (subset && rhs == BandRhs::REFRESH && !rebuilt)
+    for (std::uint32_t m : *subset) level.band_kernel.rhs[m] = band_rhs(level, m);
+  else if (rhs == BandRhs::REFRESH || rebuilt)
+    refresh_band_rhs(level);
   const BandSweep<Dim, Scalar> band(level);
   const BandRuns<Dim, Scalar>& runs = level.band_runs;
   if (subset) {
@@ -186,14 +187,16 @@ void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps,
 template <int Dim, typename Scalar>
 void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps,
                        const typename Level<Dim, Scalar>::RowSchedule& schedule,
-                       BandSweepOrder order) {
+                       BandSweepOrder order, BandRhs rhs) {
   update_band_pressures(level);
-  refresh_band_kernel(level);
+  if (refresh_band_kernel(level)) rhs = BandRhs::REFRESH;  // a rebuilt kernel's rhs is zero
   const BandSweep<Dim, Scalar> band(level);
-  auto& rhs = level.band_kernel.rhs;
-  sweep_colored(schedule, 1, order, [&](const std::vector<std::uint32_t>& rows) {
-    for (std::uint32_t m : rows) rhs[m] = band_rhs(level, m);
-  });
+  if (rhs == BandRhs::REFRESH) {
+    auto& values = level.band_kernel.rhs;
+    sweep_colored(schedule, 1, order, [&](const std::vector<std::uint32_t>& rows) {
+      for (std::uint32_t m : rows) values[m] = band_rhs(level, m);
+    });
+  }
   sweep_colored(schedule, sweeps, order, [&](const std::vector<std::uint32_t>& rows) {
     for (std::uint32_t m : rows) band.relax_row(m);
   });
@@ -224,12 +227,13 @@ void back_substitute_traction(Level<Dim, Scalar>& level) {
   }
 }
 
-#define MGELASTIC_INSTANTIATE(D, S)                                                                \
-  template void update_band_pressures<D, S>(Level<D, S>&);                                         \
-  template void band_gauss_seidel<D, S>(Level<D, S>&, int, const std::vector<std::uint32_t>*,      \
-                                        BandSweepOrder);                                           \
-  template void band_gauss_seidel<D, S>(Level<D, S>&, int,                                         \
-                                        const typename Level<D, S>::RowSchedule&, BandSweepOrder); \
+#define MGELASTIC_INSTANTIATE(D, S)                                                           \
+  template void refresh_band_rhs<D, S>(Level<D, S>&);                                         \
+  template void update_band_pressures<D, S>(Level<D, S>&);                                    \
+  template void band_gauss_seidel<D, S>(Level<D, S>&, int, const std::vector<std::uint32_t>*, \
+                                        BandSweepOrder, BandRhs);                             \
+  template void band_gauss_seidel<D, S>(                                                      \
+      Level<D, S>&, int, const typename Level<D, S>::RowSchedule&, BandSweepOrder, BandRhs);  \
   template void back_substitute_traction<D, S>(Level<D, S>&);
 MGELASTIC_INSTANTIATE(2, float)
 MGELASTIC_INSTANTIATE(2, double)

@@ -37,6 +37,17 @@ constexpr BandSweepOrder resolved(BandSweepOrder order) {
   return Dim == 3 ? BandSweepOrder::BLOCK_LOCAL : BandSweepOrder::BAND_WIDE;
 }
 
+// The band rows' right-hand sides b - constant (BandKernel::rhs) that the sweeps read.
+//   REFRESH  each call recomputes them from b (any caller, any time).
+//   CURRENT  the caller refreshed them (refresh_band_rhs) since b last changed: the V-cycle does
+//            once per visit of a level, whose b is fixed during the visit, so its six band calls
+//            do not gather b at every band row six times.
+enum class BandRhs { REFRESH, CURRENT };
+
+// kernel.rhs[m] = b - constant of every band row m.
+template <int Dim, typename Scalar>
+void refresh_band_rhs(Level<Dim, Scalar>& level);
+
 // Exact update of every band pressure from its (diagonal) pressure equation.
 template <int Dim, typename Scalar>
 void update_band_pressures(Level<Dim, Scalar>& level);
@@ -47,10 +58,12 @@ void update_band_pressures(Level<Dim, Scalar>& level);
 template <int Dim, typename Scalar>
 void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps,
                        const std::vector<std::uint32_t>* subset = nullptr,
-                       BandSweepOrder order = BandSweepOrder::BAND_WIDE);
+                       BandSweepOrder order = BandSweepOrder::BAND_WIDE,
+                       BandRhs rhs = BandRhs::REFRESH);
 template <int Dim, typename Scalar>
-void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps, BandSweepOrder order) {
-  band_gauss_seidel(level, sweeps, nullptr, order);
+void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps, BandSweepOrder order,
+                       BandRhs rhs = BandRhs::REFRESH) {
+  band_gauss_seidel(level, sweeps, nullptr, order, rhs);
 }
 
 // The same over the rows of a colored row schedule (Level::RowSchedule, e.g. the Fig. 8 rows),
@@ -58,7 +71,8 @@ void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps, BandSweepOrder ord
 template <int Dim, typename Scalar>
 void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps,
                        const typename Level<Dim, Scalar>::RowSchedule& schedule,
-                       BandSweepOrder order = BandSweepOrder::BAND_WIDE);
+                       BandSweepOrder order = BandSweepOrder::BAND_WIDE,
+                       BandRhs rhs = BandRhs::REFRESH);
 
 // Sets the traction boundary variables from the traction conditions: normal faces first, then
 // the faces half a cell outside (Sec. 5.3), so every boundary condition holds exactly.

@@ -51,16 +51,22 @@ double band_row_relaxations(const Level<Dim, Scalar>& level, std::size_t count_r
   return static_cast<double>(count_rows) * (2 * kIndex + kField + 3 * S) + pressures * 2 * S;
 }
 
-// A band_gauss_seidel call over `subset` (all band rows when null).
+// refresh_band_rhs over `rows` band rows: b and constant read, rhs written.
+template <typename Scalar>
+double band_rhs_bytes(std::size_t rows) {
+  return static_cast<double>(rows) * (kField + kIndex + 3 * sizeof(Scalar));
+}
+
+// A band_gauss_seidel call over `subset` (all band rows when null), its rhs refreshed or not
+// (BandRhs; the V-cycle refreshes once per visit of a level).
 template <int Dim, typename Scalar>
 double band_call_bytes(const Level<Dim, Scalar>& level, int sweeps,
-                       const std::vector<std::uint32_t>* subset) {
-  constexpr double S = sizeof(Scalar);
+                       const std::vector<std::uint32_t>* subset, bool refresh = true) {
   const std::size_t rows = subset ? subset->size() : level.band_kernel.rows();
   // The exact pressure update: band_p rows with their inverse, p written.
   const double pressures = sparse_rows_bytes(level.band_p, 1) + bytes_of(level.band_p_inverse);
-  const double refresh = static_cast<double>(rows) * (kField + kIndex + 3 * S);  // b, constant
-  return pressures + refresh + sweeps * band_row_relaxations(level, rows, subset);
+  return pressures + (refresh ? band_rhs_bytes<Scalar>(rows) : 0.0) +
+         sweeps * band_row_relaxations(level, rows, subset);
 }
 
 template <int Dim, typename Scalar>
@@ -76,10 +82,11 @@ double traction_bytes(const Level<Dim, Scalar>& level) {
   return total;
 }
 
-// One smoothing (Sec. 5.2): band, distributive, band, traction back-substitution.
+// One smoothing inside a V-cycle (Sec. 5.2): band, distributive, band, traction
+// back-substitution; the band rhs is current.
 template <int Dim, typename Scalar>
 double smoothing_band_bytes(const Level<Dim, Scalar>& level, int sweeps) {
-  return 2 * band_gauss_seidel_bytes(level, sweeps) + traction_bytes(level);
+  return 2 * band_call_bytes(level, sweeps, nullptr, false) + traction_bytes(level);
 }
 
 template <int Dim, typename Scalar>
@@ -156,9 +163,10 @@ PhaseSeconds cycle_bytes(const Multigrid<Dim, Scalar>& mg) {
     const Level<Dim, Scalar>& next = mg.level(l + 1);
     const double v = visits[l];
     bytes.boundary_smoothing +=
-        v * (2 * smoothing_band_bytes(level, smoothing_sweeps) +
-             band_call_bytes(level, relocation_sweeps, &level.pre_restriction_rows) +
-             band_call_bytes(level, relocation_sweeps, &level.post_prolongation_rows));
+        v * (band_rhs_bytes<Scalar>(level.band_kernel.rows()) +
+             2 * smoothing_band_bytes(level, smoothing_sweeps) +
+             band_call_bytes(level, relocation_sweeps, &level.pre_restriction_rows, false) +
+             band_call_bytes(level, relocation_sweeps, &level.post_prolongation_rows, false));
     bytes.interior_smoothing += v * 2 * distributive_sweep_bytes(level);
     if (mg.fuses_restriction(l)) {
       bytes.residual += v * fused_residual_restriction_bytes(level, next);

@@ -164,10 +164,11 @@ void relocation_sweeps(Level<Dim, Scalar>& level, int sweeps,
                        const std::vector<std::uint32_t>& rows,
                        const typename Level<Dim, Scalar>::RowSchedule& schedule,
                        BandSweepOrder order) {
+  // Inside a V-cycle's visit of the level: its band rhs is current (Multigrid::correct).
   if (rows.size() == level.band_kernel.rows())
-    band_gauss_seidel(level, sweeps, order);
+    band_gauss_seidel(level, sweeps, order, BandRhs::CURRENT);
   else
-    band_gauss_seidel(level, sweeps, schedule, order);
+    band_gauss_seidel(level, sweeps, schedule, order, BandRhs::CURRENT);
 }
 
 }  // namespace
@@ -365,7 +366,7 @@ void Multigrid<Dim, Scalar>::smooth(int l, bool pre) {
   // Sec. 5.2: a boundary pass, the interior distributive pass, a last boundary pass; then the
   // traction variables are back-substituted so every boundary condition holds exactly.
   Timer timer;
-  band_gauss_seidel(level, m_boundary_sweeps, m_options.band_sweep_order);
+  band_gauss_seidel(level, m_boundary_sweeps, m_options.band_sweep_order, BandRhs::CURRENT);
   m_phases.boundary_smoothing += timer.seconds();
   observe(l, pre ? CyclePhase::PRE_SMOOTHING_BOUNDARY : CyclePhase::POST_SMOOTHING_BOUNDARY);
   timer.restart();
@@ -373,7 +374,7 @@ void Multigrid<Dim, Scalar>::smooth(int l, bool pre) {
   m_phases.interior_smoothing += timer.seconds();
   observe(l, pre ? CyclePhase::PRE_SMOOTHING_INTERIOR : CyclePhase::POST_SMOOTHING_INTERIOR);
   timer.restart();
-  band_gauss_seidel(level, m_boundary_sweeps, m_options.band_sweep_order);
+  band_gauss_seidel(level, m_boundary_sweeps, m_options.band_sweep_order, BandRhs::CURRENT);
   back_substitute_traction(level);
   m_phases.boundary_smoothing += timer.seconds();
   observe(l, pre ? CyclePhase::PRE_SMOOTHING_BOUNDARY_AFTER
@@ -452,6 +453,9 @@ void Multigrid<Dim, Scalar>::correct(int l) {
     observe(l, CyclePhase::COARSE_SOLVE);
     return;
   }
+  // b of level l is fixed until the visit ends: the band calls below read one refresh of it.
+  refresh_band_rhs(m_levels[l]);
+  m_phases.boundary_smoothing += timer.seconds();
   smooth(l, true);
   timer.restart();
   relocation_sweeps(m_levels[l], m_options.relocation_sweeps, m_levels[l].pre_restriction_rows,
