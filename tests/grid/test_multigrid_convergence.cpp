@@ -273,5 +273,34 @@ TEST(MultigridSolve, AcceleratedSolveMatchesPlainCycles) {
   EXPECT_TRUE(single.solve_accelerated(1e-8, 60).converged);
 }
 
+// Mixed precision: add_correction leaves the float correction zero for the next cycle, which
+// then skips zero_correction; whatever wrote the float level's x since (a caller through level(),
+// an accelerated solve's cycles) makes the next cycle zero it again. Cycles after such a write
+// must equal cycles that never saw it.
+TEST(MultigridSolve, NextCycleStartsFromAZeroCorrection) {
+  BoxSpec spec;
+  spec.cells = 16;
+  spec.poisson_ratio = 0.48;
+  Multigrid<3, float> reference(make_box_problem<3>(spec));
+  Multigrid<3, float> written(make_box_problem<3>(spec));
+  for (int cycle = 0; cycle < 2; ++cycle) EXPECT_EQ(reference.vcycle(), written.vcycle());
+  // Garbage in the float correction, through the mutable access.
+  for (auto& field : written.level(0).x)
+    for (std::size_t k = 0; k < field.size(); ++k) field[k] = 1e3f * static_cast<float>(k % 7);
+  for (int cycle = 0; cycle < 2; ++cycle) EXPECT_EQ(reference.vcycle(), written.vcycle());
+
+  // After an accelerated solve the float x holds its last cycle's correction.
+  Multigrid<3, float> accelerated(make_box_problem<3>(spec));
+  Multigrid<3, float> forced(make_box_problem<3>(spec));
+  accelerated.solve_accelerated(1e-3, 4);
+  forced.solve_accelerated(1e-3, 4);
+  bool nonzero = false;
+  for (const auto& field : accelerated.finest().x)
+    for (std::size_t k = 0; k < field.size(); ++k) nonzero = nonzero || field[k] != 0.0f;
+  ASSERT_TRUE(nonzero) << "the test needs a non-zero correction left by the solve";
+  forced.level(0);  // forces zero_correction
+  for (int cycle = 0; cycle < 2; ++cycle) EXPECT_EQ(forced.vcycle(), accelerated.vcycle());
+}
+
 }  // namespace
 }  // namespace mgelastic::grid

@@ -199,8 +199,9 @@ PhaseSeconds cycle_bytes(const Multigrid<Dim, Scalar>& mg) {
     residual_and_norm -=
         solution.zero_load[f] ? 8 * n : static_cast<double>(solution.zero_load_bytes(f));
   if (static_cast<const void*>(&solution) != static_cast<const void*>(&mg.finest())) {
-    // Zero the float correction; add it (kind, e, x read + written); the residual is written
-    // to and its norm read from the float level's b (residual_into), not a double r.
+    // Add the float correction and zero it for the next cycle in the same pass (kind read, e
+    // read + written, x read + written); the residual is written to and its norm read from the
+    // float level's b (residual_into), not a double r.
     bytes.refinement = n * F * S + n * F * (kField + S + 16) + traction_bytes(solution);
     residual_and_norm -= 2 * n * F * (8 - S);
   }

@@ -133,25 +133,28 @@ double residual_to_correction_problem(const Level<Dim, double>& solution,
   return residual_into<Dim, double, Scalar>(solution, b);
 }
 
+// Adds the correction e (the float level's INTERIOR unknowns) to the solution and leaves e zero,
+// the next cycle's initial correction (zero_correction's work, done while e is in cache).
 template <int Dim, typename Scalar>
-void add_correction(const Level<Dim, Scalar>& fine, Level<Dim, double>& solution) {
+void add_correction(Level<Dim, Scalar>& fine, Level<Dim, double>& solution) {
   const auto size = static_cast<std::ptrdiff_t>(fine.size());
   for (int f = 0; f <= Dim; ++f) {
     const FieldKinds kind = fine.codes.kinds(f);
-    const Scalar* e = fine.x[f].data();
+    Scalar* e = fine.x[f].data();
     double* x = solution.x[f].data();
-    // Chunks without an INTERIOR variable (outside an embedded body) are skipped; inside one the
-    // add always runs and only its operand is selected (a conditional add would be a branch
+    // Chunks without an INTERIOR variable (outside an embedded body) are only zeroed; inside one
+    // the add always runs and only its operand is selected (a conditional add would be a branch
     // under -ftrapping-math and keep the loop scalar); x + 0 leaves every other x as it was.
     // The chunks are the live chunks' (live_chunks.hpp), so no dead page is written.
     constexpr std::ptrdiff_t chunk = kLiveChunk;
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t begin = 0; begin < size; begin += chunk) {
       const std::ptrdiff_t end = std::min(begin + chunk, size);
-      if (!solution.live.any_live(begin, end)) continue;
-      if (!(kind + begin).any(end - begin, VarKind::INTERIOR)) continue;
-      for (std::ptrdiff_t k = begin; k < end; ++k)
-        x[k] += kind[k] == VarKind::INTERIOR ? static_cast<double>(e[k]) : 0.0;
+      if (!fine.live.any_live(begin, end)) continue;
+      if (solution.live.any_live(begin, end) && (kind + begin).any(end - begin, VarKind::INTERIOR))
+        for (std::ptrdiff_t k = begin; k < end; ++k)
+          x[k] += kind[k] == VarKind::INTERIOR ? static_cast<double>(e[k]) : 0.0;
+      std::fill(e + begin, e + end, Scalar(0));
     }
   }
 }
@@ -418,11 +421,12 @@ double Multigrid<Dim, Scalar>::vcycle() {
     m_phases.cycle_residual += timer.seconds();
     timer.restart();
   }
-  zero_correction(fine);
+  if (!m_correction_zero) zero_correction(fine);
   m_phases.refinement += timer.seconds();
   cycle_correction();
   timer.restart();
   add_correction(fine, *m_solution);
+  m_correction_zero = true;
   back_substitute_traction(*m_solution);
   m_phases.refinement += timer.seconds();
   timer.restart();
@@ -434,6 +438,7 @@ double Multigrid<Dim, Scalar>::vcycle() {
 
 template <int Dim, typename Scalar>
 void Multigrid<Dim, Scalar>::cycle_correction() {
+  m_correction_zero = false;  // the cycle writes the finest level's x
   observe(0, CyclePhase::CYCLE_START);
   correct(0);
 }

@@ -179,6 +179,7 @@ class Multigrid {
   int levels() const { return static_cast<int>(m_levels.size()); }
   Level<Dim, Scalar>& level(int l) {
     m_solution_residual_current = false;  // the caller may change the finest level's b
+    m_correction_zero = false;            // ... or its x
     // ... and write into its released zero load pages: count them again (conservative).
     m_levels[l].forget_zero_loads();
     return m_levels[l];
@@ -267,6 +268,9 @@ class Multigrid {
   // vcycle() and residual(); cleared by every access that may change them, solution_level() and
   // level() included), so the next cycle need not recompute it.
   bool m_solution_residual_current = false;
+  // Mixed precision: the float finest level's x is all zero (add_correction left it so and
+  // nothing has written it since), so the next cycle needs no zero_correction.
+  bool m_correction_zero = false;
   // Single precision only: solution_state()'s double copy of the float finest level's x, made
   // on request (checkpoints), not kept up to date.
   mutable SolutionState m_single_state;
