@@ -76,8 +76,10 @@ struct BandRuns {
   std::vector<BandRunShape<Dim, Scalar>> shapes;
   std::vector<BandRun> runs;
   std::vector<std::uint32_t> rows;
-  // Per color, per block of Level::band_schedule: the block's items. (The Fig. 8 relocation
-  // sweeps keep their row-by-row path: as runs of point groups they were 5-20 % slower.)
+  // Per color, the blocks of Level::band_schedule that have band work, largest first (the
+  // sweeps hand a color's blocks to the threads in this order, so the color ends on small ones):
+  // each block's items. (The Fig. 8 relocation sweeps keep their row-by-row path: as runs of
+  // point groups they were 5-20 % slower.)
   using Schedule = std::array<std::vector<std::vector<std::uint32_t>>, (1 << Dim)>;
   Schedule schedule;
   std::size_t band_rows = 0;  // band_u rows when built (stale when band_u changed)
@@ -92,6 +94,12 @@ struct BandRuns {
 // and band_schedule) and puts each block's steps of band_schedule in run order (above).
 template <int Dim, typename Scalar>
 void build_band_runs(Level<Dim, Scalar>& level);
+
+// Row relaxations of one block's items in one sweep (a run: its steps times its members); the
+// schedule holds only blocks with work, largest first in each color (see build_band_runs).
+template <int Dim, typename Scalar>
+std::size_t band_block_work(const Level<Dim, Scalar>& level, const BandRuns<Dim, Scalar>& runs,
+                            const std::vector<std::uint32_t>& items);
 
 // Relaxes one run. x: the level's Dim + 1 field arrays; rhs: BandKernel::rhs (b - constant).
 template <int Dim, typename Scalar>
