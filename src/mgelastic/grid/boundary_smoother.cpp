@@ -160,10 +160,10 @@ void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps,
                        const std::vector<std::uint32_t>* subset, BandSweepOrder order,
                        BandRhs rhs) {
   update_band_pressures(level);
-  const bool rebuilt = refresh_band_kernel(level);
-  if (subset && rhs == BandRhs::REFRESH && !rebuilt)
+  if (refresh_band_kernel(level)) rhs = BandRhs::REFRESH;  // a rebuilt kernel's rhs is zero
+  if (rhs == BandRhs::REFRESH && subset)
     for (std::uint32_t m : *subset) level.band_kernel.rhs[m] = band_rhs(level, m);
-  else if (rhs == BandRhs::REFRESH || rebuilt)
+  else if (rhs == BandRhs::REFRESH)
     refresh_band_rhs(level);
   const BandSweep<Dim, Scalar> band(level);
   const BandRuns<Dim, Scalar>& runs = level.band_runs;

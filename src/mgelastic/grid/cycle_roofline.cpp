@@ -202,7 +202,7 @@ PhaseSeconds cycle_bytes(const Multigrid<Dim, Scalar>& mg) {
     // Add the float correction and zero it for the next cycle in the same pass (kind read, e
     // read + written, x read + written); the residual is written to and its norm read from the
     // float level's b (residual_into), not a double r.
-    bytes.refinement = n * F * S + n * F * (kField + S + 16) + traction_bytes(solution);
+    bytes.refinement = n * F * (kField + 2 * S + 16) + traction_bytes(solution);
     residual_and_norm -= 2 * n * F * (8 - S);
   }
   bytes.cycle_residual = residual_and_norm;

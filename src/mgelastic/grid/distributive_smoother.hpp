@@ -13,12 +13,12 @@
 // A sweep visits the colored blocks (Sec. 9.4; colors in turn, the blocks of one color in
 // parallel) and relaxes in each block u_1, u_2, (u_3), then p, in this exact order, over equations
 // marked DISTRIBUTIVE. Block by block rather than field by field over the level: a block's fields
-// (whole lattice rows, up to ~16 Ki cells, ~560 KB in float) stay in cache through its four passes, so the sweep reads
-// x, b and the relaxation codes from memory once instead of once per pass. The psi rows do not
-// see q steps (L M is lower triangular), so only a block's q rows at its border read neighbours
-// that the field-by-field order would have relaxed further.
-// Dynamics (Sec. 8): with the inertia term the momentum rows read L_i - c u_i and the
-// distribution's pressure block becomes -2 Lap + c/mu, which keeps L M lower triangular:
+// (whole lattice rows, up to ~16 Ki cells, ~560 KB in float) stay in cache through its four passes,
+// so the sweep reads x, b and the relaxation codes from memory once instead of once per pass. The
+// psi rows do not see q steps (L M is lower triangular), so only a block's q rows at its border
+// read neighbours that the field-by-field order would have relaxed further. Dynamics (Sec. 8): with
+// the inertia term the momentum rows read L_i - c u_i and the distribution's pressure block becomes
+// -2 Lap + c/mu, which keeps L M lower triangular:
 //   (LM)_ii = -2 d mu / h^2 - c,   q step: p[k] += (4 d / h^2 + c / mu) delta,
 //   (LM)_pp = mu (1 + 2 mu/lambda) 2 d / h^2 + c mu / lambda.
 #include "mgelastic/grid/level.hpp"
