@@ -210,6 +210,9 @@ void add_cycle_fields(nlohmann::json& record, const grid::Multigrid<Dim, Scalar>
   record["threads"] = thread_count();
   record["peak_rss_bytes"] = peak_resident_bytes();
   record["phase_seconds"] = phase_seconds_json(mg.phase_seconds());
+  // Mixed precision: cycles that added the correction in double, and float residual norms.
+  record["refinements"] = mg.refinements();
+  record["float_norms"] = mg.float_norms();
   add_roofline(record, mg, report, triad_gb_per_s);
 }
 

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 #include <utility>
 #include <vector>
@@ -300,6 +302,59 @@ TEST(MultigridSolve, NextCycleStartsFromAZeroCorrection) {
   ASSERT_TRUE(nonzero) << "the test needs a non-zero correction left by the solve";
   forced.level(0);  // forces zero_correction
   for (int cycle = 0; cycle < 2; ++cycle) EXPECT_EQ(forced.vcycle(), accelerated.vcycle());
+}
+
+// Mixed precision inside solve(): the float cycles go on with one correction problem until its
+// residual fell to refinement_reduction of where it started (MultigridOptions), so fewer
+// cycles pay the refinement. The solve needs no more cycles than one that refines after every
+// cycle, each deferred cycle's float residual is the double one to round-off, and the last
+// entry is the double residual of the returned solution.
+TEST(MultigridSolve, DeferredRefinementKeepsTheCyclesAndTheResidual) {
+  BoxSpec spec;
+  spec.cells = 32;
+  spec.poisson_ratio = 0.48;
+  MultigridOptions every_cycle;
+  every_cycle.refinement_reduction = 1.0;
+  Multigrid<3, float> deferred(make_box_problem<3>(spec));
+  Multigrid<3, float> refined(make_box_problem<3>(spec), every_cycle);
+  const SolveReport a = deferred.solve(1e-10, 40);
+  const SolveReport b = refined.solve(1e-10, 40);
+  ASSERT_TRUE(a.converged);
+  ASSERT_TRUE(b.converged);
+  EXPECT_LE(a.cycles(), b.cycles());
+  EXPECT_EQ(b.cycles(), refined.refinements());
+  EXPECT_LT(deferred.refinements(), a.cycles() / 2);
+  EXPECT_GT(deferred.float_norms(), a.cycles() / 2);
+  // Each entry against the refining solve's, while both are well above the double floor.
+  for (int c = 0; c <= std::min(a.cycles(), b.cycles()); ++c)
+    if (b.residuals[c] > 1e-8 * b.residuals.front())
+      EXPECT_NEAR(a.residuals[c] / b.residuals[c], 1.0, 0.05) << "cycle " << c;
+  EXPECT_EQ(a.residuals.back(), deferred.residual());  // the double residual, recomputed
+}
+
+// A solve that stops at its cycle limit in the middle of a deferred refinement adds the
+// pending correction: the solution and its reported residual are those of every cycle run.
+TEST(MultigridSolve, CycleLimitAddsThePendingCorrection) {
+  BoxSpec spec;
+  spec.cells = 16;
+  spec.poisson_ratio = 0.48;
+  MultigridOptions every_cycle;
+  every_cycle.refinement_reduction = 1.0;
+  Multigrid<3, float> deferred(make_box_problem<3>(spec));
+  Multigrid<3, float> refined(make_box_problem<3>(spec), every_cycle);
+  const SolveReport a = deferred.run_cycles(2);  // 2 cycles: 1.66 * 0.21 > 0.05, still deferred
+  const SolveReport b = refined.run_cycles(2);
+  EXPECT_EQ(deferred.refinements(), 1);
+  EXPECT_EQ(a.residuals.back(), deferred.residual());
+  EXPECT_NEAR(a.residuals.back() / b.residuals.back(), 1.0, 1e-3);
+  double largest = 0, difference = 0;
+  for (int f = 0; f <= 3; ++f)
+    for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(deferred.finest().size()); ++k) {
+      largest = std::max(largest, std::abs(refined.solution(f, k)));
+      difference = std::max(difference, std::abs(deferred.solution(f, k) - refined.solution(f, k)));
+    }
+  ASSERT_GT(largest, 0.0);
+  EXPECT_LT(difference, 1e-4 * largest);  // a lost correction would be ~10 %
 }
 
 }  // namespace

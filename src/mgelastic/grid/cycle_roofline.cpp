@@ -143,6 +143,12 @@ double prolongation_bytes(const Level<Dim, Scalar>& coarse, const Level<Dim, Sca
          static_cast<double>(fine.size()) * F * (2 * S + kField);
 }
 
+// The norm of a level's residual without writing it (fresh_residual_norm).
+template <int Dim, typename Scalar>
+double fresh_norm_bytes(const Level<Dim, Scalar>& level) {
+  return residual_bytes(level) - (Dim + 1) * sizeof(Scalar) * static_cast<double>(level.size());
+}
+
 template <int Dim, typename Scalar>
 PhaseSeconds cycle_bytes(const Multigrid<Dim, Scalar>& mg) {
   PhaseSeconds bytes;
@@ -186,7 +192,7 @@ PhaseSeconds cycle_bytes(const Multigrid<Dim, Scalar>& mg) {
     // rows without a residual array (fresh_residual_norm: no r written, no norm pass); the
     // solve's start is a float copy of x (read + written).
     const Level<Dim, Scalar>& fine = mg.finest();
-    bytes.cycle_residual = residual_bytes(fine) - F * S * static_cast<double>(fine.size());
+    bytes.cycle_residual = fresh_norm_bytes(fine);
     bytes.solve_setup = bytes.cycle_residual + 2 * S * F * static_cast<double>(fine.size());
     return bytes;
   }
@@ -226,6 +232,14 @@ CycleRoofline cycle_roofline(const Multigrid<Dim, Scalar>& mg, const SolveReport
   const PhaseSeconds& seconds = mg.phase_seconds();
   PhaseSeconds bytes = cycle_bytes(mg);
   bytes.solve_setup /= cycles;  // once per solve
+  if (mg.refinements() > 0) {
+    // Mixed precision refines only on some cycles (MultigridOptions::refinement_reduction); the
+    // others end with the float correction problem's residual norm.
+    const double refined = mg.refinements() / cycles;
+    bytes.refinement *= refined;
+    bytes.cycle_residual =
+        bytes.cycle_residual * refined + fresh_norm_bytes(mg.finest()) * mg.float_norms() / cycles;
+  }
   CycleRoofline table;
   table.triad_gb_per_s = triad_gb_per_s;
   double phase_sum = 0, byte_sum = 0;

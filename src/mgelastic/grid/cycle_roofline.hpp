@@ -36,6 +36,9 @@
 //                       read kind, e, x and write x (F (1 + S + 16) n), traction back-substitution
 //   cycle_residual      a residual of the solution level plus the norm's read of r (F S n);
 //                       single precision: the finest level's rows without r (no write, no read)
+//   (mixed precision refines only on some cycles, MultigridOptions::refinement_reduction:
+//   cycle_roofline scales refinement and the double residual by refinements per cycle and adds
+//   the float norms of the other cycles, counted as in single precision)
 //   solve_setup         per SOLVE, not per cycle: one residual and norm of the solution level and
 //                       the copy of its x (read + write 2 * 8 F n)
 #include <cstddef>

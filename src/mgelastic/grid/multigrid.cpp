@@ -398,42 +398,69 @@ void Multigrid<Dim, Scalar>::observe(int l, CyclePhase phase) {
 template <int Dim, typename Scalar>
 double Multigrid<Dim, Scalar>::residual() {
   if (!m_solution) return fresh_residual_norm(m_levels.front());
-  const double norm = residual_to_correction_problem(*m_solution, m_levels.front());
+  if (m_correction_pending) return refine();
+  m_refined_norm = residual_to_correction_problem(*m_solution, m_levels.front());
   m_solution_residual_current = true;
-  return norm;
+  return m_refined_norm;
 }
 
 template <int Dim, typename Scalar>
 double Multigrid<Dim, Scalar>::vcycle() {
+  return cycle(false);
+}
+
+template <int Dim, typename Scalar>
+double Multigrid<Dim, Scalar>::cycle(bool may_defer) {
+  Level<Dim, Scalar>& fine = m_levels.front();
   if (!m_solution) {
     cycle_correction();
     Timer timer;
-    const double norm = fresh_residual_norm(m_levels.front());
+    const double norm = fresh_residual_norm(fine);
     m_phases.cycle_residual += timer.seconds();
     return norm;
   }
   // Mixed precision: the float hierarchy solves L e = r for the double residual r, which the
-  // previous cycle (or residual()) left in the float level's b unless the solution changed since.
+  // previous refinement (or residual()) left in the float level's b unless the solution changed
+  // since; a pending correction goes on with that problem.
   Timer timer;
-  Level<Dim, Scalar>& fine = m_levels.front();
-  if (!m_solution_residual_current) {
-    residual_to_correction_problem(*m_solution, fine);
-    m_phases.cycle_residual += timer.seconds();
-    timer.restart();
+  if (!m_correction_pending) {
+    if (!m_solution_residual_current) {
+      m_refined_norm = residual_to_correction_problem(*m_solution, fine);
+      m_phases.cycle_residual += timer.seconds();
+      timer.restart();
+    }
+    if (!m_correction_zero) zero_correction(fine);
+    m_deferred_cycles = 0;
+    m_phases.refinement += timer.seconds();
   }
-  if (!m_correction_zero) zero_correction(fine);
-  m_phases.refinement += timer.seconds();
   cycle_correction();
-  timer.restart();
+  if (may_defer && m_options.refinement_reduction < 1 && ++m_deferred_cycles < kMaxDeferredCycles) {
+    timer.restart();
+    const double norm = fresh_residual_norm(fine);
+    m_phases.cycle_residual += timer.seconds();
+    ++m_float_norms;
+    m_correction_pending = true;
+    // Reduced enough (or not finite: the double residual says what went wrong): refine now.
+    if (norm > m_options.refinement_reduction * m_refined_norm && std::isfinite(norm)) return norm;
+  }
+  return refine();
+}
+
+template <int Dim, typename Scalar>
+double Multigrid<Dim, Scalar>::refine() {
+  Level<Dim, Scalar>& fine = m_levels.front();
+  Timer timer;
   add_correction(fine, *m_solution);
   m_correction_zero = true;
+  m_correction_pending = false;
   back_substitute_traction(*m_solution);
   m_phases.refinement += timer.seconds();
   timer.restart();
-  const double norm = residual_to_correction_problem(*m_solution, fine);
+  m_refined_norm = residual_to_correction_problem(*m_solution, fine);
   m_solution_residual_current = true;
+  ++m_refinements;
   m_phases.cycle_residual += timer.seconds();
-  return norm;
+  return m_refined_norm;
 }
 
 template <int Dim, typename Scalar>
@@ -513,9 +540,20 @@ SolveReport Multigrid<Dim, Scalar>::solve(double relative_tolerance, int max_cyc
   const double target = relative_tolerance * report.residuals.front();
   double smallest = report.residuals.front();
   int without_progress = 0;
-  while (report.cycles() < max_cycles && report.residuals.back() > target) {
-    throw_if_cancelled();
-    report.residuals.push_back(vcycle());
+  // A float residual (a deferred refinement) at the tolerance is checked in double first.
+  const auto reached = [&] {
+    if (m_correction_pending && report.residuals.back() <= target)
+      report.residuals.back() = refine();
+    return report.residuals.back() <= target;
+  };
+  while (report.cycles() < max_cycles && !reached()) {
+    try {
+      throw_if_cancelled();
+    } catch (const Cancelled&) {
+      if (m_correction_pending) refine();  // the solution keeps the cycles' progress
+      throw;
+    }
+    report.residuals.push_back(cycle(true));
     const std::string reason = divergence_reason(report.residuals);
     if (!reason.empty())
       fail_diverged("V-cycle " + std::to_string(report.cycles()), reason, report.residuals, start);
@@ -526,6 +564,7 @@ SolveReport Multigrid<Dim, Scalar>::solve(double relative_tolerance, int max_cyc
       break;
     }
   }
+  if (m_correction_pending) report.residuals.back() = refine();
   report.converged = report.residuals.back() <= target;
   report.seconds = timer.seconds();
   return report;
@@ -579,6 +618,8 @@ auto Multigrid<Dim, Scalar>::capture_start() const -> StartState {
 
 template <int Dim, typename Scalar>
 void Multigrid<Dim, Scalar>::restore_start(const StartState& start) {
+  m_correction_pending = false;  // the replay starts a new correction problem
+  m_correction_zero = false;
   if (!start.packed) {
     set_solution_state(start.solution);
     return;

@@ -85,6 +85,15 @@ struct MultigridOptions {
   // eps (L/h)^2 (3.7e-3 at 128^3) and solution_level() (time integrators, FGMRES) is
   // unavailable.
   bool mixed_precision = true;
+  // Mixed precision inside solve() and run_cycles(): iterative refinement with inner cycles.
+  // The float cycles go on with one correction problem L e = r (as single precision does, each
+  // followed by the float residual's norm only) until they have reduced its residual to this
+  // fraction of r's norm, or for kMaxDeferredCycles cycles; then e is added to the double
+  // solution and r recomputed there. The double phases (refinement, double residual: 20-26 %
+  // of a cycle) then run every third cycle on the box instead of every cycle. 0.05 keeps the
+  // float residual well above its round-off floor (single precision stalls near 4e-3 of a
+  // smooth load's residual at 128^3). >= 1: refine after every cycle (vcycle() always does).
+  double refinement_reduction = 0.05;
   // Hand the pages of the fields that hold no variable (most of an embedded body's bounding
   // box) back to the operating system and skip them in whole-array passes (live_chunks.hpp),
   // and the pages of the loads that hold only zeros (record_zero_loads).
@@ -93,6 +102,10 @@ struct MultigridOptions {
 };
 
 int default_boundary_sweeps(double poisson_ratio);
+
+// MultigridOptions::refinement_reduction: at most this many float cycles per refinement (slow
+// embedded modes would otherwise defer it for dozens of cycles).
+inline constexpr int kMaxDeferredCycles = 8;
 
 // Seconds spent per phase, accumulated over cycles (the rows of the paper's Fig. 22, and the
 // cycle's own work around them, so that the phases add up to the solve time). The byte model
@@ -152,8 +165,14 @@ class Multigrid {
   void set_loads(const ElasticityProblem<Dim>& problem);
 
   double residual();  // recomputes the finest residual norm
-  double vcycle();    // one V(1,1) cycle; returns the residual norm after it
-  // Cycles until residual <= tolerance * initial residual or max_cycles. On divergence (a
+  // One V(1,1) cycle; returns the residual norm after it. Mixed precision: the correction is
+  // added to the double solution and the residual recomputed there after every vcycle() call
+  // (solve() defers that, MultigridOptions::refinement_reduction).
+  double vcycle();
+  // Cycles until residual <= tolerance * initial residual or max_cycles. In mixed precision the
+  // residuals of cycles without a refinement are the float correction problem's (equal to the
+  // double residual to float round-off of r); the last entry is always the double residual of
+  // the returned solution, and convergence is judged on it. On divergence (a
   // non-finite residual, or growth beyond kResidualGrowthLimit, solver_health.hpp) throws Error
   // with the residual history and the level and phase found by a checked replay.
   // stall_cycles > 0: also stops (converged false, stalled true) after that many consecutive
@@ -205,6 +224,11 @@ class Multigrid {
   // solution level of a mixed-precision solve (below) in groups of its own ("solution ...").
   std::vector<ByteShare> byte_breakdown() const;
   const PhaseSeconds& phase_seconds() const { return m_phases; }
+  // Mixed precision, since construction: refinements (correction added, double residual) and
+  // float residual norms of the correction problem (cycles that may defer the refinement;
+  // cycle_roofline.hpp counts the bytes of both).
+  int refinements() const { return m_refinements; }
+  int float_norms() const { return m_float_norms; }
   // The finest level in double precision that holds the solution x and the right-hand side b
   // (the float finest level solves only corrections in mixed precision). Time integrators
   // (backward_euler.hpp) write b and the initial guess here between solves; do not keep the
@@ -226,6 +250,11 @@ class Multigrid {
   bool mixed_precision() const { return !std::is_same_v<Scalar, double> && !single_precision(); }
   void smooth(int l, bool pre);
   void cycle_correction();
+  // One cycle; mixed precision with may_defer: the refinement waits (refinement_reduction).
+  double cycle(bool may_defer);
+  // Mixed precision: adds the float level's correction to the double solution, recomputes the
+  // residual there (the next correction problem) and returns its norm.
+  double refine();
   // Checked replay only (m_monitor set): records level l's residual norm and finiteness.
   void observe(int l, CyclePhase phase);
   // A solve's start for the replay of a diverging solve: the double solution's x, or in single
@@ -271,6 +300,13 @@ class Multigrid {
   // Mixed precision: the float finest level's x is all zero (add_correction left it so and
   // nothing has written it since), so the next cycle needs no zero_correction.
   bool m_correction_zero = false;
+  // Mixed precision inside solve(): the float finest level's x holds a correction not yet added
+  // to m_solution (refinement_reduction), after m_deferred_cycles cycles on the correction
+  // problem whose right-hand side had the norm m_refined_norm.
+  bool m_correction_pending = false;
+  int m_deferred_cycles = 0;
+  double m_refined_norm = 0;
+  int m_refinements = 0, m_float_norms = 0;
   // Single precision only: solution_state()'s double copy of the float finest level's x, made
   // on request (checkpoints), not kept up to date.
   mutable SolutionState m_single_state;
