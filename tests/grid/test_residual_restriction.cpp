@@ -40,7 +40,7 @@ void expect_fused_equals_separate(const ElasticityProblem<Dim>& problem) {
   EXPECT_TRUE(fine.r[0].empty());  // the cycle's levels keep no residual array
   const BandRowPlanes planes = band_row_planes(fine);
   ASSERT_TRUE(planes.valid_for(fine));
-  ASSERT_GT(planes.momentum_rows.size(), 0u);
+  ASSERT_GT(planes.momentum_rows.size() + planes.rows_in_lines, 0u);
 
   Level<Dim, Scalar> separate = mg.level(1);
   update_residual(fine);
@@ -89,6 +89,24 @@ TEST(ResidualRestriction, FusedEqualsResidualThenRestrictionOnBoxes) {
 TEST(ResidualRestriction, FusedEqualsResidualThenRestrictionOnEmbeddedBodies) {
   expect_fused_equals_separate<3, float>(test::clamped_ball(32));
   expect_fused_equals_separate<2, double>(test::irregular_problem<2>(48, 3, {1e5, 0.45}));
+}
+
+// Band runs make lines (band_row_planes.hpp): on a box most band rows are in one, and the norm
+// through them is the row-by-row norm, bit for bit, on 1 and 2 threads.
+TEST(ResidualRestriction, LinesHoldMostBoxBandRowsAndKeepTheNorm) {
+  Multigrid<3, float> mg(mixed_box_3d());
+  Level<3, float>& fine = mg.level(0);
+  randomize(fine, 3);
+  const BandRowPlanes planes = band_row_planes(fine);
+  ASSERT_TRUE(planes.valid_for(fine));
+  EXPECT_GT(planes.rows_in_lines, fine.band_kernel.rows() / 2);
+  const double row_by_row = fresh_residual_norm(fine);
+  for (int threads : {1, 2}) {
+    set_thread_count(threads);
+    EXPECT_EQ(fresh_residual_norm(fine, &planes), row_by_row) << threads << " threads";
+  }
+  set_thread_count(0);
+  EXPECT_GT(row_by_row, 0.0);
 }
 
 // Whoever asks for a residual array still gets one (the monitor, FGMRES, single precision).

@@ -397,7 +397,7 @@ void Multigrid<Dim, Scalar>::observe(int l, CyclePhase phase) {
 
 template <int Dim, typename Scalar>
 double Multigrid<Dim, Scalar>::residual() {
-  if (!m_solution) return fresh_residual_norm(m_levels.front());
+  if (!m_solution) return fresh_residual_norm(m_levels.front(), finest_band_planes());
   if (m_correction_pending) return refine();
   m_refined_norm = residual_to_correction_problem(*m_solution, m_levels.front());
   m_solution_residual_current = true;
@@ -415,7 +415,7 @@ double Multigrid<Dim, Scalar>::cycle(bool may_defer) {
   if (!m_solution) {
     cycle_correction();
     Timer timer;
-    const double norm = fresh_residual_norm(fine);
+    const double norm = fresh_residual_norm(fine, finest_band_planes());
     m_phases.cycle_residual += timer.seconds();
     return norm;
   }
@@ -436,7 +436,7 @@ double Multigrid<Dim, Scalar>::cycle(bool may_defer) {
   cycle_correction();
   if (may_defer && m_options.refinement_reduction < 1 && ++m_deferred_cycles < kMaxDeferredCycles) {
     timer.restart();
-    const double norm = fresh_residual_norm(fine);
+    const double norm = fresh_residual_norm(fine, finest_band_planes());
     m_phases.cycle_residual += timer.seconds();
     ++m_float_norms;
     m_correction_pending = true;

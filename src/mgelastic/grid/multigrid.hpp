@@ -255,6 +255,10 @@ class Multigrid {
   // Mixed precision: adds the float level's correction to the double solution, recomputes the
   // residual there (the next correction problem) and returns its norm.
   double refine();
+  // The finest level's band rows by plane (fresh_residual_norm's lines); null with one level.
+  const BandRowPlanes* finest_band_planes() const {
+    return m_band_row_planes.empty() ? nullptr : &m_band_row_planes.front();
+  }
   // Checked replay only (m_monitor set): records level l's residual norm and finiteness.
   void observe(int l, CyclePhase phase);
   // A solve's start for the replay of a diverging solve: the double solution's x, or in single

@@ -189,11 +189,45 @@ Scalar band_pressure_residual(const Level<Dim, Scalar>& level, std::size_t m, Sc
          (d0 + level.band_p_extra[m]) * level.x[Dim][k];
 }
 
+// The residuals of one line of band_row_planes.hpp (member a of a band run, rows
+// rows[first_row + s * members + a]): visit(row, value) for each step. Each value is
+// band_momentum_residual's: the same products added in the same entry order.
+template <int Dim, typename Scalar, typename Visit>
+void line_residuals(const Level<Dim, Scalar>& level, std::uint32_t line, const Visit& visit) {
+  const BandKernel<Scalar>& kernel = level.band_kernel;
+  const BandRuns<Dim, Scalar>& runs = level.band_runs;
+  const BandRun& run = runs.runs[line / BandRowPlanes::kLineMembers];
+  const int a = static_cast<int>(line % BandRowPlanes::kLineMembers);
+  const BandRunShape<Dim, Scalar>& shape = runs.shapes[run.shape];
+  const int length = static_cast<int>(run.length);
+  const std::ptrdiff_t base = run.target + shape.offset[a];
+  const std::ptrdiff_t stride = run.stride;
+  const std::uint32_t p = shape.pattern[a];
+  alignas(32) Scalar sum[kBandRunMaxLength] = {};
+  for (std::uint32_t e = kernel.start[p]; e < kernel.start[p + 1]; ++e) {
+    const Scalar value = kernel.entry_value[e];
+    const Scalar* __restrict xe =
+        level.x[kernel.entry_field[e]].data() + base + kernel.entry_offset[e];
+    if (stride == 1) {
+#pragma omp simd
+      for (int s = 0; s < length; ++s) sum[s] = std::fma(value, xe[s], sum[s]);
+    } else {
+      for (int s = 0; s < length; ++s) sum[s] = std::fma(value, xe[s * stride], sum[s]);
+    }
+  }
+  const std::uint32_t* rows = runs.rows.data() + run.first_row;
+  for (int s = 0; s < length; ++s) {
+    const std::uint32_t m = rows[s * shape.members + a];
+    visit(m, load_at(level, kernel.field[m], kernel.target[m]) - kernel.constant[m] - sum[s]);
+  }
+}
+
 // Band rows; with `squares`, also the sum of their squared residuals (before rounding to Out),
-// added in row order. r[0] null: the squares only (nothing written).
+// added in row order. r[0] null: the squares only (nothing written). planes: the level's
+// band_row_planes when valid (its lines are evaluated run-wise), else null.
 template <int Dim, typename Scalar, typename Out>
 void band_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Dim + 1>& r,
-                   double* squares) {
+                   double* squares, const BandRowPlanes* planes = nullptr) {
   const bool write = r[0] != nullptr;
   std::vector<Scalar> values;  // the rows' residuals, kept only when squares are asked for
   const auto keep = [&](std::size_t count) {
@@ -203,13 +237,26 @@ void band_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Dim +
     for (Scalar v : values) *squares += static_cast<double>(v) * v;
   };
   const BandKernel<Scalar>& kernel = level.band_kernel;
-  const auto u_count = static_cast<std::ptrdiff_t>(kernel.rows());
   keep(kernel.rows());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t m = 0; m < u_count; ++m) {
-    const Scalar value = band_momentum_residual(level, static_cast<std::size_t>(m));
+  const auto store = [&](std::uint32_t m, Scalar value) {
     if (write) r[kernel.field[m]][kernel.target[m]] = static_cast<Out>(value);
     if (squares) values[m] = value;
+  };
+  if (planes && planes->rows_in_lines > 0) {
+    const auto lines = static_cast<std::ptrdiff_t>(planes->lines.size());
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < lines; ++i) line_residuals(level, planes->lines[i], store);
+    const auto outside = static_cast<std::ptrdiff_t>(planes->momentum_rows.size());
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < outside; ++i) {
+      const std::uint32_t m = planes->momentum_rows[i];
+      store(m, band_momentum_residual(level, m));
+    }
+  } else {
+    const auto u_count = static_cast<std::ptrdiff_t>(kernel.rows());
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t m = 0; m < u_count; ++m)
+      store(static_cast<std::uint32_t>(m), band_momentum_residual(level, m));
   }
   if (squares) add_squares();
   if (level.lambda <= 0) return;
@@ -257,12 +304,12 @@ namespace {
 // squares (unrounded).
 template <int Dim, typename Scalar, typename Out>
 void level_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Dim + 1>& r,
-                    double* squares) {
+                    double* squares, const BandRowPlanes* planes = nullptr) {
   std::vector<double> chunk_squares;
   stencil_residual<Dim, Scalar, Out>(level, r, squares ? &chunk_squares : nullptr);
   if (squares)
     for (double value : chunk_squares) *squares += value;
-  band_residual<Dim, Scalar, Out>(level, r, squares);
+  band_residual<Dim, Scalar, Out>(level, r, squares, planes);
 }
 
 }  // namespace
@@ -290,6 +337,11 @@ void residual_planes(const Level<Dim, Scalar>& level, const BandRowPlanes& band_
   }
   // The band rows of these planes overwrite their targets, as band_residual does.
   const BandKernel<Scalar>& kernel = level.band_kernel;
+  if (band_planes.rows_in_lines > 0)
+    for (std::uint32_t i = band_planes.line_start[first]; i < band_planes.line_start[end]; ++i)
+      line_residuals(level, band_planes.lines[i], [&](std::uint32_t m, Scalar value) {
+        r[kernel.field[m]][kernel.target[m]] = value;
+      });
   for (std::uint32_t i = band_planes.momentum_start[first]; i < band_planes.momentum_start[end];
        ++i) {
     const std::uint32_t m = band_planes.momentum_rows[i];
@@ -313,9 +365,11 @@ double residual_into(const Level<Dim, Scalar>& level, const std::array<Out*, Dim
 }
 
 template <int Dim, typename Scalar>
-double fresh_residual_norm(const Level<Dim, Scalar>& level) {
+double fresh_residual_norm(const Level<Dim, Scalar>& level, const BandRowPlanes* band_planes) {
   double squares = 0;
-  level_residual<Dim, Scalar, Scalar>(level, {}, &squares);  // null arrays: squares only
+  const BandRowPlanes* planes =
+      band_planes && band_planes->valid_for(level) ? band_planes : nullptr;
+  level_residual<Dim, Scalar, Scalar>(level, {}, &squares, planes);  // null arrays: squares only
   return std::sqrt(squares);
 }
 
@@ -345,7 +399,7 @@ double residual_norm(const Level<Dim, Scalar>& level) {
                                       const std::array<S*, D + 1>&);                      \
   template void update_residual<D, S>(Level<D, S>&);                                      \
   template double compute_residual<D, S>(Level<D, S>&);                                   \
-  template double fresh_residual_norm<D, S>(const Level<D, S>&);                          \
+  template double fresh_residual_norm<D, S>(const Level<D, S>&, const BandRowPlanes*);    \
   template double residual_norm<D, S>(const Level<D, S>&);                                \
   template double residual_into<D, double, S>(const Level<D, double>&,                    \
                                               const std::array<S*, D + 1>&);

@@ -35,9 +35,11 @@ double compute_residual(Level<Dim, Scalar>& level);
 
 // The residual norm above without a residual array (the rows evaluated chunk by chunk into
 // scratch): residual_into's norm, bit for bit, for any thread count. Equal to compute_residual's
-// up to the order of the sum.
+// up to the order of the sum. band_planes: band_row_planes(level) (its lines are evaluated
+// run-wise, the same values), ignored when stale or null.
 template <int Dim, typename Scalar>
-double fresh_residual_norm(const Level<Dim, Scalar>& level);
+double fresh_residual_norm(const Level<Dim, Scalar>& level,
+                           const BandRowPlanes* band_planes = nullptr);
 
 // The norm of the current level.r (as compute_residual returns it).
 template <int Dim, typename Scalar>
