@@ -92,6 +92,7 @@ grid::MultigridOptions multigrid_options(const BoxBenchOptions& o) {
   }
   if (o.band_layers >= 0) options.band_layers = o.band_layers;
   if (o.relocation_sweeps >= 0) options.relocation_sweeps = o.relocation_sweeps;
+  if (o.refinement_reduction >= 0) options.refinement_reduction = o.refinement_reduction;
   options.band_sweep_order = grid::band_sweep_order(o.smoother_order);
   options.max_levels = o.max_levels;
   if (o.coarsest_min_cells >= 0) options.coarsest_min_cells = o.coarsest_min_cells;
@@ -968,6 +969,10 @@ void register_bench_commands(CLI::App& app) {
                      "Extra cell layers in the band (default: 1 for --mesh, 0 for the box)");
   vcycle->add_option("--relocation-sweeps", profile_options.relocation_sweeps,
                      "Fig. 8 band sweeps before restriction / after prolongation (default 2)");
+  vcycle->add_option("--refinement-reduction", profile_options.refinement_reduction,
+                     "Mixed precision: float cycles per refinement run until they reduce the "
+                     "correction problem's residual by this factor (default 0.02; 1 = refine "
+                     "after every cycle)");
   vcycle
       ->add_option("--smoother-order", profile_options.smoother_order,
                    "Band sweeps: block_local (each block's sweeps while in cache; auto = this "

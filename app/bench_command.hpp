@@ -33,6 +33,7 @@ struct BoxBenchOptions {
   int max_levels = 0;
   int coarsest_min_cells = -1;
   double coarsest_max_boundary_fraction = -1;
+  double refinement_reduction = -1;  // mixed precision (grid::MultigridOptions); 1: every cycle
   bool no_coarse_fill_weights = false;
   bool no_misaligned_clamp_depth = false;
   bool no_repair_coarse_cells = false;

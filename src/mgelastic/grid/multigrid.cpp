@@ -401,6 +401,7 @@ double Multigrid<Dim, Scalar>::residual() {
   if (m_correction_pending) return refine();
   m_refined_norm = residual_to_correction_problem(*m_solution, m_levels.front());
   m_solution_residual_current = true;
+  m_last_ratio = kUnknownRatio;  // a new solve: no cycle's ratio yet
   return m_refined_norm;
 }
 
@@ -434,16 +435,32 @@ double Multigrid<Dim, Scalar>::cycle(bool may_defer) {
     m_phases.refinement += timer.seconds();
   }
   cycle_correction();
-  if (may_defer && m_options.refinement_reduction < 1 && ++m_deferred_cycles < kMaxDeferredCycles) {
-    timer.restart();
-    const double norm = fresh_residual_norm(fine, finest_band_planes());
-    m_phases.cycle_residual += timer.seconds();
-    ++m_float_norms;
-    m_correction_pending = true;
-    // Reduced enough (or not finite: the double residual says what went wrong): refine now.
-    if (norm > m_options.refinement_reduction * m_refined_norm && std::isfinite(norm)) return norm;
+  const double reduction = m_options.refinement_reduction;
+  if (may_defer && reduction < 1 && ++m_deferred_cycles < kMaxDeferredCycles) {
+    const double previous = m_deferred_cycles == 1 ? m_refined_norm : m_last_float_norm;
+    // Where the last cycle's ratio says this one reaches the reduction (or no ratio is known
+    // yet: a solve's first cycle), refine without the float norm (~60 % of a double residual).
+    if (m_last_ratio != kUnknownRatio &&
+        (m_last_ratio >= 1 || previous * m_last_ratio > reduction * m_refined_norm)) {
+      timer.restart();
+      const double norm = fresh_residual_norm(fine, finest_band_planes());
+      m_phases.cycle_residual += timer.seconds();
+      ++m_float_norms;
+      m_correction_pending = true;
+      m_last_float_norm = norm;
+      m_last_ratio = norm / previous;
+      // Refine now when reduced enough; when the cycle raised the residual above the problem's
+      // start or stopped reducing it (float round-off of a large correction reached); or when
+      // the norm is not finite (the double residual says more).
+      if (norm > reduction * m_refined_norm && norm <= m_refined_norm &&
+          m_last_ratio <= kDeferredStall && std::isfinite(norm))
+        return norm;
+    }
   }
-  return refine();
+  const double before = m_correction_pending ? m_last_float_norm : m_refined_norm;
+  const double norm = refine();
+  m_last_ratio = before > 0 ? norm / before : kUnknownRatio;
+  return norm;
 }
 
 template <int Dim, typename Scalar>

@@ -88,12 +88,13 @@ struct MultigridOptions {
   // Mixed precision inside solve() and run_cycles(): iterative refinement with inner cycles.
   // The float cycles go on with one correction problem L e = r (as single precision does, each
   // followed by the float residual's norm only) until they have reduced its residual to this
-  // fraction of r's norm, or for kMaxDeferredCycles cycles; then e is added to the double
-  // solution and r recomputed there. The double phases (refinement, double residual: 20-26 %
-  // of a cycle) then run every third cycle on the box instead of every cycle. 0.05 keeps the
-  // float residual well above its round-off floor (single precision stalls near 4e-3 of a
-  // smooth load's residual at 128^3). >= 1: refine after every cycle (vcycle() always does).
-  double refinement_reduction = 0.05;
+  // fraction of r's norm; then e is added to the double solution and r recomputed there. A
+  // cycle refines at once where the last ratio predicts the reduction (no float norm), after a
+  // cycle that raised the residual above r's or stalled (kDeferredStall: float round-off of a
+  // large correction), and after kMaxDeferredCycles. The double phases (refinement and double
+  // residual, ~25 % of a cycle when every cycle refines) then run on every third cycle of the
+  // box. >= 1: refine after every cycle (vcycle() always does).
+  double refinement_reduction = 0.02;
   // Hand the pages of the fields that hold no variable (most of an embedded body's bounding
   // box) back to the operating system and skip them in whole-array passes (live_chunks.hpp),
   // and the pages of the loads that hold only zeros (record_zero_loads).
@@ -106,6 +107,8 @@ int default_boundary_sweeps(double poisson_ratio);
 // MultigridOptions::refinement_reduction: at most this many float cycles per refinement (slow
 // embedded modes would otherwise defer it for dozens of cycles).
 inline constexpr int kMaxDeferredCycles = 8;
+// ... and a deferred cycle whose float residual ratio exceeds this refines (round-off reached).
+inline constexpr double kDeferredStall = 0.9;
 
 // Seconds spent per phase, accumulated over cycles (the rows of the paper's Fig. 22, and the
 // cycle's own work around them, so that the phases add up to the solve time). The byte model
@@ -309,7 +312,10 @@ class Multigrid {
   // problem whose right-hand side had the norm m_refined_norm.
   bool m_correction_pending = false;
   int m_deferred_cycles = 0;
-  double m_refined_norm = 0;
+  double m_refined_norm = 0, m_last_float_norm = 0;
+  // The last cycle's residual ratio (kUnknownRatio before a solve's first cycle).
+  static constexpr double kUnknownRatio = 1e300;
+  double m_last_ratio = kUnknownRatio;
   int m_refinements = 0, m_float_norms = 0;
   // Single precision only: solution_state()'s double copy of the float finest level's x, made
   // on request (checkpoints), not kept up to date.
