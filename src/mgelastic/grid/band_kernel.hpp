@@ -14,7 +14,6 @@
 // which hold ~20 (field, index, value) entries per row, 6-7x the kernel's bytes (Multigrid does,
 // on every level; levels built directly by build_level keep both forms).
 #include <array>
-#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -52,16 +51,16 @@ struct BandKernel {
   std::uint32_t global_target(std::size_t m, std::size_t size) const {
     return static_cast<std::uint32_t>(field[m] * size + target[m]);
   }
-  // Row value sum_e value_e x[field_e][target + offset_e] (the entries' order: the CSR sum),
-  // each term added by a fused multiply-add: the band residual's vectorized lines
-  // (band_row_planes.hpp) round every row exactly so, whatever the compiler contracts.
+  // Row value sum_e value_e x[field_e][target + offset_e] (the entries' order: the CSR sum;
+  // each product rounded before it is added, as the band residual's vectorized lines do,
+  // band_row_planes.hpp: a fused multiply-add would lengthen the sweeps' dependency chain).
   template <typename X>
   Scalar row_sum(const X& x, std::size_t m) const {
     const std::uint32_t p = pattern[m];
     const std::ptrdiff_t self = target[m];
     Scalar sum = 0;
     for (std::uint32_t e = start[p]; e < start[p + 1]; ++e)
-      sum = std::fma(entry_value[e], x[entry_field[e]][self + entry_offset[e]], sum);
+      sum += entry_value[e] * x[entry_field[e]][self + entry_offset[e]];
     return sum;
   }
 };

@@ -203,17 +203,22 @@ void line_residuals(const Level<Dim, Scalar>& level, std::uint32_t line, const V
   const std::ptrdiff_t base = run.target + shape.offset[a];
   const std::ptrdiff_t stride = run.stride;
   const std::uint32_t p = shape.pattern[a];
+  // Products rounded before they are added (row_sum's arithmetic: kept apart in their own
+  // loop, so that no fused multiply-add forms).
   alignas(32) Scalar sum[kBandRunMaxLength] = {};
+  alignas(32) Scalar product[kBandRunMaxLength];
   for (std::uint32_t e = kernel.start[p]; e < kernel.start[p + 1]; ++e) {
     const Scalar value = kernel.entry_value[e];
     const Scalar* __restrict xe =
         level.x[kernel.entry_field[e]].data() + base + kernel.entry_offset[e];
     if (stride == 1) {
 #pragma omp simd
-      for (int s = 0; s < length; ++s) sum[s] = std::fma(value, xe[s], sum[s]);
+      for (int s = 0; s < length; ++s) product[s] = value * xe[s];
     } else {
-      for (int s = 0; s < length; ++s) sum[s] = std::fma(value, xe[s * stride], sum[s]);
+      for (int s = 0; s < length; ++s) product[s] = value * xe[s * stride];
     }
+#pragma omp simd
+    for (int s = 0; s < length; ++s) sum[s] += product[s];
   }
   const std::uint32_t* rows = runs.rows.data() + run.first_row;
   for (int s = 0; s < length; ++s) {
