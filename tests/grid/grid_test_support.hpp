@@ -3,9 +3,18 @@
 #include <cmath>
 #include <random>
 
+#include "mgelastic/grid/box_problem.hpp"
 #include "mgelastic/grid/problem.hpp"
 
 namespace mgelastic::grid::test {
+
+// The mixed 3D box (make_box_problem's boundary) at nu 0.48 with `cells` cells per side.
+inline ElasticityProblem<3> mixed_box(int cells) {
+  BoxSpec spec;
+  spec.cells = cells;
+  spec.poisson_ratio = 0.48;
+  return make_box_problem<3>(spec);
+}
 
 // A smooth displacement made of one plane wave per component, u_i = A cos(k_i . x + phi_i),
 // with its exact stress P = mu (grad u + grad u^T) + lambda (div u) I and div P.

@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "grid_test_support.hpp"
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/grid/box_problem.hpp"
 #include "mgelastic/grid/cycle_roofline.hpp"
@@ -12,13 +13,6 @@
 
 namespace mgelastic::grid {
 namespace {
-
-ElasticityProblem<3> mixed_box(int cells) {
-  BoxSpec spec;
-  spec.cells = cells;
-  spec.poisson_ratio = 0.48;
-  return make_box_problem<3>(spec);
-}
 
 MultigridOptions single_precision() {
   MultigridOptions options;
@@ -38,8 +32,8 @@ double solution_difference(const Multigrid<3, float>& a, const Multigrid<3, floa
 }
 
 TEST(SinglePrecision, CyclesMatchMixedPrecisionAboveRoundOff) {
-  Multigrid<3, float> mixed(mixed_box(32));
-  Multigrid<3, float> single(mixed_box(32), single_precision());
+  Multigrid<3, float> mixed(test::mixed_box(32));
+  Multigrid<3, float> single(test::mixed_box(32), single_precision());
   ASSERT_TRUE(single.single_precision());
   ASSERT_FALSE(mixed.single_precision());
   const std::vector<double> m = mixed.run_cycles(3).residuals;
@@ -51,9 +45,9 @@ TEST(SinglePrecision, CyclesMatchMixedPrecisionAboveRoundOff) {
 }
 
 TEST(SinglePrecision, ReachesThreeDigitsAndTheMixedSolution) {
-  Multigrid<3, float> mixed(mixed_box(24));
+  Multigrid<3, float> mixed(test::mixed_box(24));
   ASSERT_TRUE(mixed.solve(1e-9, 60).converged);
-  Multigrid<3, float> single(mixed_box(24), single_precision());
+  Multigrid<3, float> single(test::mixed_box(24), single_precision());
   const SolveReport report = single.solve(1e-3, 30);
   EXPECT_TRUE(report.converged);
   // The displacements agree to ~2.5e-5 although the residual is only 1e-3 relative: float
@@ -62,15 +56,15 @@ TEST(SinglePrecision, ReachesThreeDigitsAndTheMixedSolution) {
 }
 
 TEST(SinglePrecision, HalvesTheMemoryAndHasNoRefinement) {
-  const Multigrid<3, float> mixed(mixed_box(32));
-  const Multigrid<3, float> single(mixed_box(32), single_precision());
+  const Multigrid<3, float> mixed(test::mixed_box(32));
+  const Multigrid<3, float> single(test::mixed_box(32), single_precision());
   EXPECT_LT(static_cast<double>(single.bytes()), 0.6 * static_cast<double>(mixed.bytes()));
   EXPECT_EQ(cycle_bytes(single).refinement, 0.0);
   EXPECT_GT(cycle_bytes(mixed).refinement, 0.0);
 }
 
 TEST(SinglePrecision, StateRoundTripsAndHasNoDoubleLevel) {
-  Multigrid<3, float> single(mixed_box(16), single_precision());
+  Multigrid<3, float> single(test::mixed_box(16), single_precision());
   single.run_cycles(2);
   const double before = single.residual();
   const auto state = single.solution_state();
