@@ -91,9 +91,10 @@ struct MultigridOptions {
   // fraction of r's norm; then e is added to the double solution and r recomputed there. A
   // cycle refines at once where the last ratio predicts the reduction (no float norm), after a
   // cycle that raised the residual above r's or stalled (kDeferredStall: float round-off of a
-  // large correction), and after kMaxDeferredCycles. The double phases (refinement and double
-  // residual, ~25 % of a cycle when every cycle refines) then run on every third cycle of the
-  // box. >= 1: refine after every cycle (vcycle() always does).
+  // large correction), after kMaxDeferredCycles and on a solve's last allowed cycle. The
+  // double phases (refinement and double residual, ~25 % of a cycle when every cycle refines)
+  // then run on every third cycle of the box. >= 1: refine after every cycle (vcycle() always
+  // does).
   double refinement_reduction = 0.02;
   // Hand the pages of the fields that hold no variable (most of an embedded body's bounding
   // box) back to the operating system and skip them in whole-array passes (live_chunks.hpp),
