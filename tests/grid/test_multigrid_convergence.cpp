@@ -328,9 +328,11 @@ TEST(MultigridSolve, DeferredRefinementKeepsTheCyclesAndTheResidual) {
   EXPECT_LT(deferred.refinements(), a.cycles() / 2);
   EXPECT_GT(deferred.float_norms(), a.cycles() / 2);
   // Each entry against the refining solve's, while both are well above the double floor.
-  for (int c = 0; c <= std::min(a.cycles(), b.cycles()); ++c)
-    if (b.residuals[c] > 1e-8 * b.residuals.front())
+  for (int c = 0; c <= std::min(a.cycles(), b.cycles()); ++c) {
+    if (b.residuals[c] > 1e-8 * b.residuals.front()) {
       EXPECT_NEAR(a.residuals[c] / b.residuals[c], 1.0, 0.05) << "cycle " << c;
+    }
+  }
   EXPECT_EQ(a.residuals.back(), deferred.residual());  // the double residual, recomputed
 }
 
