@@ -434,32 +434,30 @@ double Multigrid<Dim, Scalar>::cycle(bool may_defer) {
     m_deferred_cycles = 0;
     m_phases.refinement += timer.seconds();
   }
+  const double before = m_correction_pending ? m_last_float_norm : m_refined_norm;
   cycle_correction();
   const double reduction = m_options.refinement_reduction;
-  if (may_defer && reduction < 1 && ++m_deferred_cycles < kMaxDeferredCycles) {
-    const double previous = m_deferred_cycles == 1 ? m_refined_norm : m_last_float_norm;
-    // Where the last cycle's ratio says this one reaches the reduction (or no ratio is known
-    // yet: a solve's first cycle), refine without the float norm (~60 % of a double residual).
-    if (m_last_ratio != kUnknownRatio &&
-        (m_last_ratio >= 1 || previous * m_last_ratio > reduction * m_refined_norm)) {
-      timer.restart();
-      const double norm = fresh_residual_norm(fine, finest_band_planes());
-      m_phases.cycle_residual += timer.seconds();
-      ++m_float_norms;
-      m_correction_pending = true;
-      m_last_float_norm = norm;
-      m_last_ratio = norm / previous;
-      // Refine now when reduced enough; when the cycle raised the residual above the problem's
-      // start or stopped reducing it (float round-off of a large correction reached); or when
-      // the norm is not finite (the double residual says more).
-      if (norm > reduction * m_refined_norm && norm <= m_refined_norm &&
-          m_last_ratio <= kDeferredStall && std::isfinite(norm))
-        return norm;
-    }
+  if (may_defer && reduction < 1 && ++m_deferred_cycles < kMaxDeferredCycles &&
+      m_last_ratio != kUnknownRatio &&
+      (m_last_ratio >= 1 || before * m_last_ratio > reduction * m_refined_norm)) {
+    // The float norm (~60 % of a double residual) only where the last cycle's ratio does not
+    // predict the reduction; a solve's first cycle (no ratio yet) refines without it.
+    timer.restart();
+    const double norm = fresh_residual_norm(fine, finest_band_planes());
+    m_phases.cycle_residual += timer.seconds();
+    ++m_float_norms;
+    m_correction_pending = true;
+    m_last_float_norm = norm;
+    m_last_ratio = norm / before;
+    // Refine now when reduced enough; when the cycle raised the residual above the problem's
+    // start or stopped reducing it (float round-off of a large correction reached); or when the
+    // norm is not finite (the double residual says more).
+    if (norm > reduction * m_refined_norm && norm <= m_refined_norm &&
+        m_last_ratio <= kDeferredStall && std::isfinite(norm))
+      return norm;
   }
-  const double before = m_correction_pending ? m_last_float_norm : m_refined_norm;
   const double norm = refine();
-  m_last_ratio = before > 0 ? norm / before : kUnknownRatio;
+  m_last_ratio = before > 0 ? norm / before : kUnknownRatio;  // this cycle's, in double
   return norm;
 }
 
