@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
+#include <optional>
 #include <type_traits>
 #include <utility>
+
+#include <omp.h>
 
 #include "mgelastic/core/cancellation.hpp"
 #include "mgelastic/core/error.hpp"
@@ -174,6 +178,21 @@ void relocation_sweeps(Level<Dim, Scalar>& level, int sweeps,
     band_gauss_seidel(level, sweeps, schedule, order, BandRhs::CURRENT);
 }
 
+// The double solution level of mixed precision on a thread of its own, with the caller's OpenMP
+// thread count (a new thread starts from the default). The caller keeps `finest` and `problem`
+// alive and unchanged until the future is ready.
+template <int Dim, typename Scalar>
+std::future<Level<Dim, double>> start_solution_level(const Level<Dim, Scalar>& finest,
+                                                     const ElasticityProblem<Dim>& problem,
+                                                     bool release_dead_pages) {
+  const int threads = omp_get_max_threads();
+  return std::async(std::launch::async, [&finest, &problem, release_dead_pages, threads] {
+    omp_set_num_threads(threads);
+    return build_solution_level(finest, problem.material, problem.boundary_stress, problem.inertia,
+                                release_dead_pages);
+  });
+}
+
 }  // namespace
 
 int default_boundary_sweeps(double poisson_ratio) {
@@ -218,17 +237,27 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
   // A coarse level that is still singular (a body part not held, or a strain-free mode the
   // repair of coarse typings does not remove) cannot be the coarsest; the hierarchy then stops
   // one level finer, down to a direct solve of the finest level itself.
+  std::optional<Level<Dim, double>> solution;
   while (true) {
     build_levels(problem, lattices, cells, weights);
     install_coarse_galerkin_rows();
+    // The double solution level reads only the finest level's lattice, typing and variable codes,
+    // which the coarsest factorization leaves alone: it is built alongside (the factorization's
+    // ordering and assembly are serial, and the two overlap on two cores).
+    std::future<Level<Dim, double>> solution_build;
+    if (mixed_precision())
+      solution_build =
+          start_solution_level(m_levels.front(), problem, m_options.release_dead_pages);
     try {
       m_coarse = std::make_unique<CoarseSolver<Dim, Scalar>>(m_levels.back());
+      if (solution_build.valid()) solution = solution_build.get();
       for (Level<Dim, Scalar>& level : m_levels) {
         drop_band_csr(level);
         drop_whole_band_schedules(level);
       }
       break;
     } catch (const SingularCoarseLevel&) {
+      if (solution_build.valid()) solution_build.wait();  // it reads the levels rebuilt next
       if (lattices.size() == 1) throw;
       lattices.pop_back();
       cells.pop_back();
@@ -244,9 +273,7 @@ Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, Multigr
         m_levels[m_levels.size() - 2], m_levels.back(),
         m_options.coarsest_operator == CoarsestOperator::GALERKIN_BAND);
   if (mixed_precision()) {
-    m_solution = std::make_unique<Level<Dim, double>>(
-        build_solution_level(m_levels.front(), problem.material, problem.boundary_stress,
-                             problem.inertia, m_options.release_dead_pages));
+    m_solution = std::make_unique<Level<Dim, double>>(std::move(*solution));
     release_sweep_data(*m_solution);
     set_dirichlet_values(*m_solution, problem.dirichlet_displacement);
     write_load_right_hand_side(problem, *m_solution);
