@@ -17,6 +17,7 @@
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/core/timer.hpp"
 #include "mgelastic/grid/boundary_smoother.hpp"
+#include "mgelastic/grid/huge_pages.hpp"
 #include "mgelastic/grid/multigrid.hpp"
 #include "mgelastic/grid/residual.hpp"
 
@@ -130,6 +131,14 @@ void zero_fields(std::array<FieldArray<T>, Dim + 1>& fields, const LiveChunks& l
   }
 }
 
+// A vector of n values on transparent huge pages (advised before the first touch): the basis
+// vectors are tens of megabytes each, and 4 KiB pages cost a fault each on first write.
+Eigen::VectorXd huge_vector(std::ptrdiff_t n) {
+  Eigen::VectorXd v(n);  // uninitialized: no page touched yet
+  advise_huge_pages(v.data(), static_cast<std::size_t>(n) * sizeof(double));
+  return v;
+}
+
 // Blocked so that the sums do not depend on the thread count.
 constexpr std::ptrdiff_t kDotBlock = std::ptrdiff_t{1} << 14;
 
@@ -183,12 +192,12 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
   };
   // The fine level shares the solution level's variable codes: one index set for both.
   const InteriorVariables<Dim> vars = interior_variables(s);
-  Eigen::VectorXd x;
+  Eigen::VectorXd x = huge_vector(vars.size());
   gather(vars, s.x, x);
   // Every vector below keeps its storage across iterations and restarts: a fresh one would fault
   // in its pages again (tens of megabytes each, several microseconds per page on a virtual
   // machine).
-  Eigen::VectorXd residual;
+  Eigen::VectorXd residual = huge_vector(vars.size());
   const auto residual_into = [&](Eigen::VectorXd& out) {
     compute_residual(s);
     gather(vars, s.r, out);
@@ -200,7 +209,7 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
     scatter(vars, z, s.x);
   };
   load(Eigen::VectorXd::Zero(vars.size()));
-  Eigen::VectorXd r_zero;
+  Eigen::VectorXd r_zero = huge_vector(vars.size());
   residual_into(r_zero);
   auto apply_operator = [&](const Eigen::VectorXd& z, Eigen::VectorXd& w) {
     load(z);
@@ -228,7 +237,7 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
     back_substitute_traction(s);
     residual_into(r);
   };
-  Eigen::VectorXd r;
+  Eigen::VectorXd r = huge_vector(vars.size());
   true_residual(r);
   report.residuals.push_back(norm(r));
   if (!std::isfinite(report.residuals.front()))
@@ -244,8 +253,8 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
   std::vector<Eigen::VectorXd> v, z;  // the Krylov basis and its preconditioned vectors
   v.reserve(static_cast<std::size_t>(restart) + 1);  // references into them stay valid
   z.reserve(static_cast<std::size_t>(restart));
-  const auto slot = [](std::vector<Eigen::VectorXd>& list, int i) -> Eigen::VectorXd& {
-    while (static_cast<int>(list.size()) <= i) list.emplace_back();
+  const auto slot = [&](std::vector<Eigen::VectorXd>& list, int i) -> Eigen::VectorXd& {
+    while (static_cast<int>(list.size()) <= i) list.push_back(huge_vector(vars.size()));
     return list[static_cast<std::size_t>(i)];
   };
   int cycles = 0;
