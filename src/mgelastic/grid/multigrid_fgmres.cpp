@@ -114,21 +114,9 @@ void scatter(const InteriorVariables<Dim>& vars, const Eigen::VectorXd& in,
   }
 }
 
-// Zeroes the live chunks of every field (where nonzero only: released zero pages of loads are
-// not mapped by writing zeros into them).
 template <int Dim, typename T>
 void zero_fields(std::array<FieldArray<T>, Dim + 1>& fields, const LiveChunks& live) {
-  for (int f = 0; f <= Dim; ++f) {
-    T* v = fields[f].data();
-    const auto size = static_cast<std::ptrdiff_t>(fields[f].size());
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t lo = 0; lo < size; lo += kLiveChunk) {
-      const std::ptrdiff_t hi = std::min(lo + kLiveChunk, size);
-      if (!live.any_live(lo, hi)) continue;
-      if (std::any_of(v + lo, v + hi, [](T value) { return value != T(0); }))
-        std::fill(v + lo, v + hi, T(0));
-    }
-  }
+  for (FieldArray<T>& field : fields) zero_live_where_nonzero(field, live);
 }
 
 // A vector of n values on transparent huge pages (advised before the first touch): the basis
@@ -178,17 +166,14 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
   Timer timer;
   Level<Dim, double>& s = solution_level();
   Level<Dim, Scalar>& fine = m_levels.front();
-  // Where the solve starts (the divergence replay's start) and the loads: the operator below is
-  // applied with zero loads and boundary values, the true residual with these.
+  // Where the solve starts (x and its boundary values: restore_start, also the divergence
+  // replay's start) and the loads: the operator below is applied with zero loads and boundary
+  // values, the true residual with these.
   const StartState start = capture_start();
-  std::array<FieldArray<double>, Dim + 1> saved_x, saved_b;
-  for (int f = 0; f <= Dim; ++f) {
-    saved_x[f] = pack_live(s.x[f], s.live);
-    saved_b[f] = pack_live(s.b[f], s.live);
-  }
-  const auto restore = [&](std::array<FieldArray<double>, Dim + 1>& fields,
-                           const std::array<FieldArray<double>, Dim + 1>& packed) {
-    for (int f = 0; f <= Dim; ++f) unpack_live(packed[f], fields[f], s.live);
+  std::array<FieldArray<double>, Dim + 1> saved_b;
+  for (int f = 0; f <= Dim; ++f) saved_b[f] = pack_live(s.b[f], s.live);
+  const auto restore_loads = [&] {
+    for (int f = 0; f <= Dim; ++f) unpack_live(saved_b[f], s.b[f], s.live);
   };
   // The fine level shares the solution level's variable codes: one index set for both.
   const InteriorVariables<Dim> vars = interior_variables(s);
@@ -214,7 +199,6 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
   auto apply_operator = [&](const Eigen::VectorXd& z, Eigen::VectorXd& w) {
     load(z);
     residual_into(residual);
-    w.resize(vars.size());
     const std::ptrdiff_t n = w.size();
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t lo = 0; lo < n; lo += kDotBlock) {
@@ -231,8 +215,8 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
   };
   // True residual of the current x (with the real boundary data).
   auto true_residual = [&](Eigen::VectorXd& r) {
-    restore(s.x, saved_x);
-    restore(s.b, saved_b);
+    restore_start(start);
+    restore_loads();
     scatter(vars, x, s.x);
     back_substitute_traction(s);
     residual_into(r);
@@ -246,7 +230,7 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
   const double target = relative_tolerance * report.residuals.front();
   // Divergence: back to the start (s.b was cleared for the operator), then a checked replay.
   const auto diverged = [&](const std::string& reason) {
-    restore(s.b, saved_b);
+    restore_loads();
     fail_diverged("the accelerated solve (FGMRES) at cycle " + std::to_string(report.cycles()),
                   reason, report.residuals, start);
   };
