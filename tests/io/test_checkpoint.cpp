@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -114,6 +116,94 @@ TEST(Checkpoint, Fnv1aMatchesTheReferenceVectors) {
   EXPECT_EQ(fnv1a64(""), 0xcbf29ce484222325ull);
   EXPECT_EQ(fnv1a64("a"), 0xaf63dc4c8601ec8cull);
   EXPECT_EQ(fnv1a64("foobar"), 0x85944171f73967e8ull);
+}
+
+// Bitwise equality (distinguishes -0.0 from 0.0).
+template <typename T>
+bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+// Mostly zero, as a lattice field outside a body: runs of every length, zero gaps of 1 to 12
+// values (shorter than kNonzeroRunGap they stay inside a run), -0.0, both ends non-zero.
+std::vector<double> sparse_field() {
+  std::vector<double> v(5000, 0.0);
+  v.front() = 1.5;
+  v.back() = -2.0;
+  std::size_t at = 10;
+  for (int run = 1; at + 200 < v.size(); ++run) {
+    for (int i = 0; i < run % 9 + 1; ++i) v[at++] = 0.25 * run + i;
+    at += static_cast<std::size_t>(run % 12 + 1);
+    if (run % 5 == 0) v[at++] = -0.0;
+    at += 40;
+  }
+  return v;
+}
+
+TEST(Checkpoint, NonzeroRunsKeepEveryBitAndStoreOnlyTheRuns) {
+  const std::vector<double> field = sparse_field();
+  const std::vector<float> single{0.0f, 0.0f, 3.0f, -0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 7.0f};
+  const std::vector<double> zeros(100, 0.0), empty;
+  Checkpoint c = sample();
+  c.add_nonzero_runs<double>("grid.x0", field);
+  c.add_nonzero_runs<float>("grid.f", single);
+  c.add_nonzero_runs<double>("grid.zeros", zeros);
+  c.add_nonzero_runs<double>("grid.empty", empty);
+  const Checkpoint back = parse_checkpoint(serialize_checkpoint(c), "run/checkpoint.mgck");
+  // Read into storage that holds other values: every value is written, zeros included.
+  std::vector<double> out(field.size(), 9.0);
+  back.get_into<double>("grid.x0", out);
+  EXPECT_TRUE(same_bits(out, field));
+  std::vector<float> out_single(single.size(), 9.0f);
+  back.get_into<float>("grid.f", out_single);
+  EXPECT_TRUE(same_bits(out_single, single));
+  std::vector<double> out_zeros(zeros.size(), 9.0), out_empty;
+  back.get_into<double>("grid.zeros", out_zeros);
+  EXPECT_TRUE(same_bits(out_zeros, zeros));
+  back.get_into<double>("grid.empty", out_empty);
+  // Only the runs are stored: far fewer values than the field has.
+  std::size_t nonzero = 0;
+  for (double x : field) nonzero += std::signbit(x) || x != 0.0;
+  const std::size_t stored = back.get<double>("grid.x0").size();
+  EXPECT_GE(stored, nonzero);
+  EXPECT_LT(stored, field.size() / 4);
+  EXPECT_EQ(back.get<double>("grid.zeros").size(), 0u);
+  // Arrays written densely (older checkpoints) read the same way.
+  std::vector<double> dense(4, 9.0);
+  back.get_into<double>("tet.positions", dense);
+  EXPECT_TRUE(same_bits(dense, sample().get<double>("tet.positions")));
+}
+
+TEST(Checkpoint, DamagedOrMismatchedRunsAreRefused) {
+  const std::vector<double> field = sparse_field();
+  Checkpoint c;
+  c.add_nonzero_runs<double>("grid.x0", field);
+  std::vector<double> out(field.size() + 1);
+  try {
+    c.get_into<double>("grid.x0", out);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("this scene needs " + std::to_string(out.size())),
+              std::string::npos)
+        << e.what();
+  }
+  out.resize(field.size());
+  // Swap the first two runs: out of order.
+  std::vector<std::int64_t> runs = c.get<std::int64_t>("grid.x0.runs");
+  ASSERT_GE(runs.size(), 5u);
+  std::swap(runs[1], runs[3]);
+  std::swap(runs[2], runs[4]);
+  Checkpoint damaged;
+  damaged.source = "run/checkpoint.mgck";
+  damaged.add<double>("grid.x0", c.get<double>("grid.x0"));
+  damaged.add<std::int64_t>("grid.x0.runs", runs);
+  try {
+    damaged.get_into<double>("grid.x0", out);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("run/checkpoint.mgck"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("is damaged"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Checkpoint, MissingFileIsAnError) {

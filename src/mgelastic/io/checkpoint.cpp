@@ -3,6 +3,7 @@
 #include <bit>
 #include <fstream>
 #include <iterator>
+#include <type_traits>
 
 #include "mgelastic/core/error.hpp"
 #include "mgelastic/io/atomic_file.hpp"
@@ -18,6 +19,7 @@ constexpr std::size_t kHeaderBytes = 8 + 4 + 8 + 8;
 
 class Writer {
  public:
+  explicit Writer(std::size_t capacity = 0) { m_bytes.reserve(capacity); }
   template <typename T>
   void put(T value) {
     raw(&value, sizeof value);
@@ -27,9 +29,8 @@ class Writer {
     raw(s.data(), s.size());
   }
   void raw(const void* data, std::size_t n) {
-    const std::size_t at = m_bytes.size();
-    m_bytes.resize(at + n);
-    if (n > 0) std::memcpy(m_bytes.data() + at, data, n);
+    const auto* from = static_cast<const std::byte*>(data);
+    m_bytes.insert(m_bytes.end(), from, from + n);
   }
   std::vector<std::byte>& bytes() { return m_bytes; }
 
@@ -132,6 +133,115 @@ const NamedArray& Checkpoint::find(std::string_view name, ScalarType type,
               ErrorContext{.file = source});
 }
 
+NamedArray Checkpoint::take_spare(std::string name) {
+  NamedArray a;
+  for (NamedArray& s : spare)
+    if (s.name == name) {
+      a = std::move(s);
+      s.name.clear();  // used
+      break;
+    }
+  a.name = std::move(name);
+  return a;
+}
+
+namespace {
+
+template <typename T>
+bool is_zero(const T& value) {
+  using Bits = std::conditional_t<sizeof(T) == 8, std::uint64_t, std::uint32_t>;
+  return std::bit_cast<Bits>(value) == 0;
+}
+
+// (start, count) of the runs of non-zero values, gaps of fewer than kNonzeroRunGap zeros merged.
+template <typename T>
+std::vector<std::int64_t> nonzero_runs(std::span<const T> values) {
+  std::vector<std::int64_t> runs{static_cast<std::int64_t>(values.size())};
+  const std::size_t n = values.size();
+  std::size_t i = 0;
+  while (true) {
+    while (i < n && is_zero(values[i])) ++i;
+    if (i == n) break;
+    const std::size_t start = i;
+    std::size_t end = i + 1;  // one past the run's last non-zero value
+    for (std::size_t j = end; j < n && j - end < kNonzeroRunGap; ++j)
+      if (!is_zero(values[j])) end = j + 1;
+    runs.push_back(static_cast<std::int64_t>(start));
+    runs.push_back(static_cast<std::int64_t>(end - start));
+    i = end;
+  }
+  return runs;
+}
+
+}  // namespace
+
+template <typename T>
+void Checkpoint::add_nonzero_runs(std::string name, std::span<const T> values) {
+  std::vector<std::int64_t> runs = nonzero_runs(values);
+  std::size_t stored = 0;
+  for (std::size_t r = 1; r < runs.size(); r += 2) stored += static_cast<std::size_t>(runs[r + 1]);
+  NamedArray data = take_spare(name);
+  data.type = scalar_type_of<T>();
+  data.length = stored;
+  data.bytes.resize(stored * sizeof(T));
+  std::byte* to = data.bytes.data();
+  for (std::size_t r = 1; r < runs.size(); r += 2) {
+    const std::size_t bytes = static_cast<std::size_t>(runs[r + 1]) * sizeof(T);
+    std::memcpy(to, values.data() + runs[r], bytes);
+    to += bytes;
+  }
+  arrays.push_back(std::move(data));
+  add<std::int64_t>(name + kNonzeroRunsSuffix, runs);
+}
+
+template <typename T>
+void Checkpoint::get_into(std::string_view name, std::span<T> out) const {
+  const std::string runs_name = std::string(name) + kNonzeroRunsSuffix;
+  if (!has(runs_name)) {
+    const NamedArray& a = find(name, scalar_type_of<T>(), static_cast<std::int64_t>(out.size()));
+    if (!out.empty()) std::memcpy(out.data(), a.bytes.data(), a.bytes.size());
+    return;
+  }
+  const std::vector<std::int64_t> runs = get<std::int64_t>(runs_name);
+  const NamedArray& data = find(name, scalar_type_of<T>(), -1);
+  const auto damaged = [&](const std::string& why) {
+    return Error("checkpoint array '" + runs_name + "' is damaged: " + why,
+                 ErrorContext{.file = source});
+  };
+  if (runs.empty() || runs.size() % 2 == 0) throw damaged("it holds no length and run pairs");
+  if (runs[0] != static_cast<std::int64_t>(out.size()))
+    throw Error("checkpoint array '" + std::string(name) + "' has " + std::to_string(runs[0]) +
+                    " values, this scene needs " + std::to_string(out.size()) +
+                    " (a checkpoint of another mesh or resolution?)",
+                ErrorContext{.file = source});
+  const T* from = reinterpret_cast<const T*>(data.bytes.data());
+  std::uint64_t used = 0;
+  std::int64_t next = 0;  // first value not yet written
+  const auto clear = [&](std::int64_t lo, std::int64_t hi) {
+    for (std::int64_t k = lo; k < hi; ++k)
+      if (!is_zero(out[static_cast<std::size_t>(k)])) out[static_cast<std::size_t>(k)] = T(0);
+  };
+  for (std::size_t r = 1; r < runs.size(); r += 2) {
+    const std::int64_t start = runs[r], count = runs[r + 1];
+    if (start < next || count <= 0 || count > runs[0] - start)
+      throw damaged("run " + std::to_string(r / 2) + " is out of order or out of range");
+    if (static_cast<std::uint64_t>(count) > data.length - used)
+      throw damaged("its runs hold more values than array '" + std::string(name) + "'");
+    clear(next, start);
+    std::memcpy(out.data() + start, from + used, static_cast<std::size_t>(count) * sizeof(T));
+    used += static_cast<std::uint64_t>(count);
+    next = start + count;
+  }
+  if (used != data.length)
+    throw damaged("its runs hold fewer values than array '" + std::string(name) + "'");
+  clear(next, runs[0]);
+}
+
+template void Checkpoint::add_nonzero_runs<double>(std::string, std::span<const double>);
+template void Checkpoint::add_nonzero_runs<float>(std::string, std::span<const float>);
+template void Checkpoint::get_into<double>(std::string_view, std::span<double>) const;
+template void Checkpoint::get_into<float>(std::string_view, std::span<float>) const;
+
 std::uint64_t fnv1a64(std::span<const std::byte> bytes, std::uint64_t hash) {
   for (std::byte b : bytes) {
     hash ^= static_cast<std::uint64_t>(b);
@@ -145,7 +255,16 @@ std::uint64_t fnv1a64(std::string_view text) {
 }
 
 std::vector<std::byte> serialize_checkpoint(const Checkpoint& c) {
-  Writer payload;
+  // Sized up front: the arrays are hundreds of megabytes for a large lattice, and growing the
+  // buffer step by step copied them several times.
+  std::size_t bytes = kHeaderBytes + 4 + c.engine.size() + 8 + 4 + 4 + 8 + 4;
+  for (const NamedArray& a : c.arrays) bytes += 4 + a.name.size() + 1 + 8 + a.bytes.size();
+  Writer file(bytes);
+  file.raw(kMagic, sizeof kMagic);
+  file.put(kCheckpointVersion);
+  file.put(static_cast<std::uint64_t>(bytes - kHeaderBytes));
+  file.put(std::uint64_t{0});  // the checksum, below
+  Writer& payload = file;
   payload.put_string(c.engine);
   payload.put(c.scene_fingerprint);
   payload.put(c.threads);
@@ -158,13 +277,10 @@ std::vector<std::byte> serialize_checkpoint(const Checkpoint& c) {
     payload.put(a.length);
     payload.raw(a.bytes.data(), a.bytes.size());
   }
-  Writer file;
-  file.raw(kMagic, sizeof kMagic);
-  file.put(kCheckpointVersion);
-  file.put(static_cast<std::uint64_t>(payload.bytes().size()));
-  file.put(fnv1a64(payload.bytes()));
-  file.raw(payload.bytes().data(), payload.bytes().size());
-  return std::move(file.bytes());
+  std::vector<std::byte>& out = file.bytes();
+  const std::uint64_t checksum = fnv1a64(std::span<const std::byte>(out).subspan(kHeaderBytes));
+  std::memcpy(out.data() + kHeaderBytes - sizeof checksum, &checksum, sizeof checksum);
+  return std::move(out);
 }
 
 Checkpoint parse_checkpoint(std::span<const std::byte> bytes, const std::string& source) {
@@ -237,10 +353,13 @@ void write_checkpoint(const std::filesystem::path& path, const Checkpoint& check
 }
 
 Checkpoint read_checkpoint(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw Error("cannot open the checkpoint", ErrorContext{.file = path.string()});
-  const std::vector<char> chars((std::istreambuf_iterator<char>(in)),
-                                std::istreambuf_iterator<char>());
+  const std::streamoff size = in.tellg();
+  std::vector<char> chars(size > 0 ? static_cast<std::size_t>(size) : 0);
+  in.seekg(0);
+  if (!in.read(chars.data(), static_cast<std::streamsize>(chars.size())))
+    throw Error("cannot read the checkpoint", ErrorContext{.file = path.string()});
   return parse_checkpoint(std::as_bytes(std::span(chars.data(), chars.size())), path.string());
 }
 

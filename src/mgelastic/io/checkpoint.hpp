@@ -11,6 +11,12 @@
 //   string   u32 byte count, then the bytes (no terminator)
 // The state is a list of named arrays so engines add fields (a new carried vector) without a
 // format change; readers ask for the arrays they need by name, type and length.
+//
+// Lattice fields are mostly zero (an embedded body fills a tenth of its bounding box: the
+// armadillo at 256 cells holds 11.4 million lattice points per field for 1.3 million cells), so
+// they are stored as their runs of non-zero values (add_nonzero_runs): array NAME holds the runs'
+// values back to back, array NAME.runs (i64) the full length, then start and count of each run.
+// get_into reads either form.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -23,6 +29,8 @@
 namespace mgelastic::io {
 
 inline constexpr std::uint32_t kCheckpointVersion = 1;
+inline constexpr const char* kNonzeroRunsSuffix = ".runs";
+inline constexpr std::size_t kNonzeroRunGap = 4;
 
 enum class ScalarType : std::uint8_t { F64 = 1, F32 = 2, I64 = 3, I32 = 4, U8 = 5 };
 
@@ -76,19 +84,17 @@ struct Checkpoint {
     // one: a run snapshots its state after every frame (sim/run_checkpoints.hpp), and fresh
     // pages would be zeroed by the kernel each time.
     const auto* bytes = reinterpret_cast<const std::byte*>(values.data());
-    NamedArray a;
-    for (NamedArray& s : spare)
-      if (s.name == name) {
-        a = std::move(s);
-        s.name.clear();  // used
-        break;
-      }
-    a.name = std::move(name);
+    NamedArray a = take_spare(std::move(name));
     a.type = scalar_type_of<T>();
     a.length = values.size();
     a.bytes.assign(bytes, bytes + values.size_bytes());
     arrays.push_back(std::move(a));
   }
+  // `values` as its runs of non-zero values (see the layout above; zero gaps shorter than
+  // kNonzeroRunGap values stay inside a run). Bit-exact: -0.0 counts as non-zero. T: float or
+  // double.
+  template <typename T>
+  void add_nonzero_runs(std::string name, std::span<const T> values);
   // The array `name` as T; throws Error naming the file and the array when it is missing, has
   // another type, or (expected_length >= 0) another length.
   template <typename T>
@@ -98,9 +104,16 @@ struct Checkpoint {
     if (a.length > 0) std::memcpy(values.data(), a.bytes.data(), a.bytes.size());
     return values;
   }
+  // The array `name`, written by add() or add_nonzero_runs(), into `out`, whose length it must
+  // have (the values outside the runs are set to zero; pages that hold zeros are only read).
+  // Throws Error naming the file and the array when it is missing, damaged or of another type
+  // or length. T: float or double.
+  template <typename T>
+  void get_into(std::string_view name, std::span<T> out) const;
   bool has(std::string_view name) const;
 
  private:
+  NamedArray take_spare(std::string name);
   const NamedArray& find(std::string_view name, ScalarType type,
                          std::int64_t expected_length) const;
 };

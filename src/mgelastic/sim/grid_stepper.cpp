@@ -70,14 +70,18 @@ StepStats corotated_stats(const grid::CorotatedReport& r) {
 
 // Carried state beyond the unknowns. Velocities of a dynamic run: "grid.v0".."grid.v2".
 void add_velocity(io::Checkpoint& c, const std::array<grid::FieldArray<double>, 3>& v) {
-  for (std::size_t f = 0; f < v.size(); ++f) c.add<double>("grid.v" + std::to_string(f), v[f]);
+  for (std::size_t f = 0; f < v.size(); ++f)
+    c.add_nonzero_runs<double>("grid.v" + std::to_string(f), v[f]);
 }
 
-// Array `name` of checkpoint c as a field of `size` values (Checkpoint::get checks the length).
+// Array `name` of checkpoint c as a field of `size` values (Checkpoint::get_into checks the
+// length; lattice fields are stored as their non-zero runs, and the fresh field's zero pages are
+// only read).
 grid::FieldArray<double> stored_field(const io::Checkpoint& c, const std::string& name,
                                       std::size_t size) {
-  const std::vector<double> values = c.get<double>(name, static_cast<std::int64_t>(size));
-  return grid::FieldArray<double>(values.begin(), values.end());
+  grid::FieldArray<double> field(size);
+  c.get_into<double>(name, field);
+  return field;
 }
 
 void restore_velocity(const io::Checkpoint& c, std::array<grid::FieldArray<double>, 3>& v) {
@@ -414,7 +418,8 @@ void GridStepper::save(io::Checkpoint& c, const std::vector<io::NamedArray>& att
   // Straight from the solver's arrays: a run snapshots its state after every frame (the last
   // good state a failed frame saves, run_checkpoints.hpp).
   const auto& x = m_solver->unknowns_state();
-  for (std::size_t f = 0; f < x.size(); ++f) c.add<double>("grid.x" + std::to_string(f), x[f]);
+  for (std::size_t f = 0; f < x.size(); ++f)
+    c.add_nonzero_runs<double>("grid.x" + std::to_string(f), x[f]);
   c.arrays.insert(c.arrays.end(), attachments.begin(), attachments.end());
   m_solver->save_carried(c);
 }
@@ -455,7 +460,7 @@ void GridStepper::save_start(io::Checkpoint& c) {
   if (m_loads_changed) reload_loads();
   save(c, {});
   const auto& b = m_solver->right_hand_side();
-  for (std::size_t f = 0; f < b.size(); ++f) c.add<double>(start_rhs_name(f), b[f]);
+  for (std::size_t f = 0; f < b.size(); ++f) c.add_nonzero_runs<double>(start_rhs_name(f), b[f]);
 }
 
 void GridStepper::return_to_start(const io::Checkpoint& start) {
