@@ -85,32 +85,45 @@ InteriorVariables<Dim> interior_variables(const Level<Dim, T>& level) {
   return v;
 }
 
-// out = the interior values of `fields`.
-template <int Dim, typename T>
+// out = the interior values of `fields` (out's scalar: the fields' or wider, so it is exact).
+template <int Dim, typename T, typename V>
 void gather(const InteriorVariables<Dim>& vars, const std::array<FieldArray<T>, Dim + 1>& fields,
-            Eigen::VectorXd& out) {
+            Eigen::Matrix<V, Eigen::Dynamic, 1>& out) {
   out.resize(vars.size());
   for (int f = 0; f <= Dim; ++f) {
     const T* from = fields[f].data();
     const std::uint32_t* points = vars.points[f].data();
-    double* to = out.data() + vars.offset[f];
+    V* to = out.data() + vars.offset[f];
     const auto count = static_cast<std::ptrdiff_t>(vars.points[f].size());
 #pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < count; ++i) to[i] = static_cast<double>(from[points[i]]);
+    for (std::ptrdiff_t i = 0; i < count; ++i) to[i] = static_cast<V>(from[points[i]]);
   }
 }
 
-// The interior values of `fields` = in (the other values are left alone).
-template <int Dim, typename T>
-void scatter(const InteriorVariables<Dim>& vars, const Eigen::VectorXd& in,
-             std::array<FieldArray<T>, Dim + 1>& fields) {
+// The interior values of `fields` = scale * in (the other values are left alone).
+template <int Dim, typename T, typename V>
+void scatter(const InteriorVariables<Dim>& vars, const Eigen::Matrix<V, Eigen::Dynamic, 1>& in,
+             std::array<FieldArray<T>, Dim + 1>& fields, double scale = 1) {
   for (int f = 0; f <= Dim; ++f) {
     T* to = fields[f].data();
     const std::uint32_t* points = vars.points[f].data();
-    const double* from = in.data() + vars.offset[f];
+    const V* from = in.data() + vars.offset[f];
     const auto count = static_cast<std::ptrdiff_t>(vars.points[f].size());
 #pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < count; ++i) to[points[i]] = static_cast<T>(from[i]);
+    for (std::ptrdiff_t i = 0; i < count; ++i)
+      to[points[i]] = static_cast<T>(scale * static_cast<double>(from[i]));
+  }
+}
+
+// The interior values of `fields` = 0.
+template <int Dim, typename T>
+void zero_interior(const InteriorVariables<Dim>& vars, std::array<FieldArray<T>, Dim + 1>& fields) {
+  for (int f = 0; f <= Dim; ++f) {
+    T* to = fields[f].data();
+    const std::uint32_t* points = vars.points[f].data();
+    const auto count = static_cast<std::ptrdiff_t>(vars.points[f].size());
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < count; ++i) to[points[i]] = T(0);
   }
 }
 
@@ -121,9 +134,10 @@ void zero_fields(std::array<FieldArray<T>, Dim + 1>& fields, const LiveChunks& l
 
 // A vector of n values on transparent huge pages (advised before the first touch): the basis
 // vectors are tens of megabytes each, and 4 KiB pages cost a fault each on first write.
-Eigen::VectorXd huge_vector(std::ptrdiff_t n) {
-  Eigen::VectorXd v(n);  // uninitialized: no page touched yet
-  advise_huge_pages(v.data(), static_cast<std::size_t>(n) * sizeof(double));
+template <typename V = double>
+Eigen::Matrix<V, Eigen::Dynamic, 1> huge_vector(std::ptrdiff_t n) {
+  Eigen::Matrix<V, Eigen::Dynamic, 1> v(n);  // uninitialized: no page touched yet
+  advise_huge_pages(v.data(), static_cast<std::size_t>(n) * sizeof(V));
   return v;
 }
 
@@ -148,13 +162,20 @@ double norm(const Eigen::VectorXd& a) {
 }
 
 // y += alpha x.
-void add_scaled(Eigen::VectorXd& y, double alpha, const Eigen::VectorXd& x) {
+template <typename V>
+void add_scaled(Eigen::VectorXd& y, double alpha, const Eigen::Matrix<V, Eigen::Dynamic, 1>& x) {
   const std::ptrdiff_t n = y.size();
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t lo = 0; lo < n; lo += kDotBlock) {
     const std::ptrdiff_t count = std::min(kDotBlock, n - lo);
-    y.segment(lo, count) += alpha * x.segment(lo, count);
+    y.segment(lo, count) += alpha * x.segment(lo, count).template cast<double>();
   }
+}
+
+// The power of two nearest to `value` (1 for zero or a value that is not finite).
+double power_of_two_near(double value) {
+  if (!(value > 0) || !std::isfinite(value)) return 1.0;
+  return std::exp2(std::round(std::log2(value)));
 }
 
 }  // namespace
@@ -162,19 +183,21 @@ void add_scaled(Eigen::VectorXd& y, double alpha, const Eigen::VectorXd& x) {
 template <int Dim, typename Scalar>
 SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance, int max_cycles,
                                                       int restart) {
+  using ScalarVector = Eigen::Matrix<Scalar, Eigen::Dynamic, 1>;
   SolveReport report;
   Timer timer;
   Level<Dim, double>& s = solution_level();
   Level<Dim, Scalar>& fine = m_levels.front();
-  // Where the solve starts (x and its boundary values: restore_start, also the divergence
-  // replay's start) and the loads: the operator below is applied with zero loads and boundary
-  // values, the true residual with these.
+  // In double precision one level holds the solution and runs the cycles: the cycles overwrite
+  // its loads and boundary values, so they are kept aside and put back for each true residual.
+  // In mixed precision (the default) the solution level keeps them throughout.
+  const bool shared_level = static_cast<const void*>(&s) == static_cast<const void*>(&fine);
+  // Where the solve starts: the divergence replay's start (and, on one level, its boundary
+  // values).
   const StartState start = capture_start();
   std::array<FieldArray<double>, Dim + 1> saved_b;
-  for (int f = 0; f <= Dim; ++f) saved_b[f] = pack_live(s.b[f], s.live);
-  const auto restore_loads = [&] {
-    for (int f = 0; f <= Dim; ++f) unpack_live(saved_b[f], s.b[f], s.live);
-  };
+  if (shared_level)
+    for (int f = 0; f <= Dim; ++f) saved_b[f] = pack_live(s.b[f], s.live);
   // The fine level shares the solution level's variable codes: one index set for both.
   const InteriorVariables<Dim> vars = interior_variables(s);
   Eigen::VectorXd x = huge_vector(vars.size());
@@ -187,39 +210,58 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
     compute_residual(s);
     gather(vars, s.r, out);
   };
-  // The operator without boundary data: A z = r(0) - r(z) with b = 0 and zero Dirichlet values.
-  auto load = [&](const Eigen::VectorXd& z) {
+  // The solution level holds x (traction variables from it) and the real loads.
+  const auto hold_x = [&] {
+    if (shared_level) {
+      restore_start(start);
+      for (int f = 0; f <= Dim; ++f) unpack_live(saved_b[f], s.b[f], s.live);
+    }
+    scatter(vars, x, s.x);
+    back_substitute_traction(s);
+  };
+  const auto true_residual = [&](Eigen::VectorXd& r) {
+    hold_x();
+    residual_into(r);
+  };
+  // The operator A z as a difference of residuals, r(x_I = 0) - r(x_I = a z) = a A z, with the
+  // interior variables x_I set and everything else (loads, boundary values, traction variables)
+  // held: no second copy of the loads, no clearing of the level per iteration. The scale a, a
+  // power of two (exact) near |r(x_I = 0)|, keeps the difference from cancelling: |A z| ~ |v| = 1.
+  // On a shared level the cycles overwrite b and x, so both are cleared for each product.
+  Eigen::VectorXd r_zero = huge_vector(vars.size());
+  double scale = 1;
+  const auto clear_shared = [&] {
     zero_fields<Dim>(s.x, s.live);
     zero_fields<Dim>(s.b, s.live);
-    scatter(vars, z, s.x);
   };
-  load(Eigen::VectorXd::Zero(vars.size()));
-  Eigen::VectorXd r_zero = huge_vector(vars.size());
-  residual_into(r_zero);
-  auto apply_operator = [&](const Eigen::VectorXd& z, Eigen::VectorXd& w) {
-    load(z);
+  const auto operator_origin = [&] {
+    if (shared_level)
+      clear_shared();
+    else
+      zero_interior(vars, s.x);
+    residual_into(r_zero);
+    scale = power_of_two_near(norm(r_zero));
+  };
+  const auto apply_operator = [&](const ScalarVector& z, Eigen::VectorXd& w) {
+    if (shared_level) clear_shared();
+    scatter(vars, z, s.x, scale);
     residual_into(residual);
     const std::ptrdiff_t n = w.size();
+    const double inverse = 1.0 / scale;  // exact: a power of two
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t lo = 0; lo < n; lo += kDotBlock) {
       const std::ptrdiff_t count = std::min(kDotBlock, n - lo);
-      w.segment(lo, count) = r_zero.segment(lo, count) - residual.segment(lo, count);
+      w.segment(lo, count) = (r_zero.segment(lo, count) - residual.segment(lo, count)) * inverse;
     }
   };
-  auto apply_preconditioner = [&](const Eigen::VectorXd& v, Eigen::VectorXd& z) {
+  // The cycles read only the interior values of the finest b (the scatter below writes all of
+  // them) and do not write it: the rest is cleared once.
+  zero_fields<Dim>(fine.b, fine.live);
+  const auto apply_preconditioner = [&](const Eigen::VectorXd& v, ScalarVector& z) {
     zero_fields<Dim>(fine.x, fine.live);
-    zero_fields<Dim>(fine.b, fine.live);
     scatter(vars, v, fine.b);
     cycle_correction();
     gather(vars, fine.x, z);
-  };
-  // True residual of the current x (with the real boundary data).
-  auto true_residual = [&](Eigen::VectorXd& r) {
-    restore_start(start);
-    restore_loads();
-    scatter(vars, x, s.x);
-    back_substitute_traction(s);
-    residual_into(r);
   };
   Eigen::VectorXd r = huge_vector(vars.size());
   true_residual(r);
@@ -228,17 +270,23 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
     throw Error("the initial residual is not finite (NaN or Inf in the loads or boundary values)",
                 {.pointer = "loads"});
   const double target = relative_tolerance * report.residuals.front();
-  // Divergence: back to the start (s.b was cleared for the operator), then a checked replay.
+  // Divergence: back to the start (loads included), then a checked replay.
   const auto diverged = [&](const std::string& reason) {
-    restore_loads();
+    if (shared_level)
+      for (int f = 0; f <= Dim; ++f) unpack_live(saved_b[f], s.b[f], s.live);
     fail_diverged("the accelerated solve (FGMRES) at cycle " + std::to_string(report.cycles()),
                   reason, report.residuals, start);
   };
-  std::vector<Eigen::VectorXd> v, z;  // the Krylov basis and its preconditioned vectors
+  // The Krylov basis, in double, and its preconditioned vectors, as the cycle returns them (in
+  // the hierarchy's precision: exact, and half the bytes of a double in mixed precision).
+  std::vector<Eigen::VectorXd> v;
+  std::vector<ScalarVector> z;
   v.reserve(static_cast<std::size_t>(restart) + 1);  // references into them stay valid
   z.reserve(static_cast<std::size_t>(restart));
-  const auto slot = [&](std::vector<Eigen::VectorXd>& list, int i) -> Eigen::VectorXd& {
-    while (static_cast<int>(list.size()) <= i) list.push_back(huge_vector(vars.size()));
+  const auto slot = [&](auto& list, int i) -> auto& {
+    using Vector = typename std::decay_t<decltype(list)>::value_type;
+    while (static_cast<int>(list.size()) <= i)
+      list.push_back(huge_vector<typename Vector::Scalar>(vars.size()));
     return list[static_cast<std::size_t>(i)];
   };
   int cycles = 0;
@@ -247,13 +295,19 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
     const int m = std::min(restart, max_cycles - cycles);
     slot(v, 0) = r;
     slot(v, 0) /= r_norm;
+    operator_origin();
     Eigen::MatrixXd h = Eigen::MatrixXd::Zero(m + 1, m);
     Eigen::VectorXd g = Eigen::VectorXd::Zero(m + 1), cs = Eigen::VectorXd::Zero(m),
                     sn = Eigen::VectorXd::Zero(m);
     g[0] = r_norm;
     int j = 0;
     for (; j < m; ++j) {
-      throw_if_cancelled();
+      try {
+        throw_if_cancelled();
+      } catch (const Cancelled&) {
+        hold_x();  // the solution keeps the solve's progress
+        throw;
+      }
       apply_preconditioner(v[j], slot(z, j));
       Eigen::VectorXd& w = slot(v, j + 1);
       apply_operator(z[j], w);
