@@ -120,16 +120,26 @@ void assign_live(std::array<Dst, N>& dst, const std::array<Src, N>& src, const L
   for (std::size_t f = 0; f < N; ++f) assign_live(dst[f], src[f], live);
 }
 
-// The live chunks of v one after the other: all that v holds beyond zeros.
+// packed = the live chunks of v one after the other: all that v holds beyond zeros. Reuses
+// packed's storage (a solve's start state is packed on every solve).
 template <typename T>
-FieldArray<T> pack_live(const FieldArray<T>& v, const LiveChunks& live) {
-  if (live.all_live()) return v;
-  FieldArray<T> packed;
+void pack_live_into(const FieldArray<T>& v, const LiveChunks& live, FieldArray<T>& packed) {
+  if (live.all_live()) {
+    packed.assign(v.begin(), v.end());
+    return;
+  }
+  packed.clear();
   packed.reserve(live.live_count() * kLiveChunk);
   for_each_live_chunk(live, 0, static_cast<std::ptrdiff_t>(v.size()),
                       [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
                         packed.insert(packed.end(), v.begin() + lo, v.begin() + hi);
                       });
+}
+
+template <typename T>
+FieldArray<T> pack_live(const FieldArray<T>& v, const LiveChunks& live) {
+  FieldArray<T> packed;
+  pack_live_into(v, live, packed);
   return packed;
 }
 

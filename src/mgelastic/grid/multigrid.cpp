@@ -359,7 +359,7 @@ template <int Dim, typename Scalar>
 std::size_t Multigrid<Dim, Scalar>::bytes() const {
   std::size_t total = m_solution ? m_solution->bytes() : 0;
   for (const auto& level : m_levels) total += level.bytes();
-  return total + fused_restriction_bytes();
+  return total + fused_restriction_bytes() + (m_krylov ? m_krylov->bytes() : 0);
 }
 
 template <int Dim, typename Scalar>
@@ -375,6 +375,7 @@ std::vector<ByteShare> Multigrid<Dim, Scalar>::byte_breakdown() const {
       share.name = "solution " + share.name;
       total.push_back(std::move(share));
     }
+  if (m_krylov) total.push_back({"accelerated solve's vectors (kept)", m_krylov->bytes()});
   return total;
 }
 
@@ -577,7 +578,7 @@ SolveReport Multigrid<Dim, Scalar>::solve(double relative_tolerance, int max_cyc
   if (!std::isfinite(report.residuals.front()))
     throw Error("the initial residual is not finite (NaN or Inf in the loads or boundary values)",
                 {.pointer = "loads"});
-  const StartState start = capture_start();  // for the replay of a diverging solve
+  const StartState& start = capture_start();  // for the replay of a diverging solve
   m_phases.solve_setup += timer.seconds();
   const double target = relative_tolerance * report.residuals.front();
   double smallest = report.residuals.front();
@@ -636,16 +637,16 @@ void Multigrid<Dim, Scalar>::fail_diverged(const std::string& what, const std::s
 }
 
 template <int Dim, typename Scalar>
-auto Multigrid<Dim, Scalar>::capture_start() const -> StartState {
+auto Multigrid<Dim, Scalar>::capture_start() -> const StartState& {
   // The live chunks only (live_chunks.hpp): a copy of the whole box would fault in every page of
   // the copy and read the released pages of the source, each a page fault (on the armadillo at
-  // 256 this took 1.3 s per solve on a virtual machine).
-  StartState start;
+  // 256 this took 1.3 s per solve on a virtual machine). Into the last solve's storage.
+  StartState& start = m_start;
   start.packed = true;
   const auto capture = [&](const auto& level, auto& packed) {
     for (int f = 0; f <= Dim; ++f) {
       start.zero[f] = zero_where_live(level.x[f], level.live);
-      if (!start.zero[f]) packed[f] = pack_live(level.x[f], level.live);
+      if (!start.zero[f]) pack_live_into(level.x[f], level.live, packed[f]);
     }
   };
   if (single_precision()) {

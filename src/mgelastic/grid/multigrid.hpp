@@ -14,6 +14,7 @@
 #include "mgelastic/grid/coarsening.hpp"
 #include "mgelastic/grid/galerkin_band_rows.hpp"
 #include "mgelastic/grid/galerkin_coarsest.hpp"
+#include "mgelastic/grid/krylov_workspace.hpp"
 #include "mgelastic/grid/level.hpp"
 #include "mgelastic/grid/problem.hpp"
 #include "mgelastic/grid/residual_restriction.hpp"
@@ -280,7 +281,8 @@ class Multigrid {
   void record_zero_loads();
   // solution_level() for this class's own writes of x alone: keeps b's zero-page record.
   Level<Dim, double>& solution_storage();
-  StartState capture_start() const;
+  // Packs the start into m_start (its storage reused from solve to solve) and returns it.
+  const StartState& capture_start();
   void restore_start(const StartState& start);
   [[noreturn]] void fail_diverged(const std::string& what, const std::string& reason,
                                   const std::vector<double>& residuals, const StartState& start);
@@ -321,6 +323,10 @@ class Multigrid {
   // Single precision only: solution_state()'s double copy of the float finest level's x, made
   // on request (checkpoints), not kept up to date.
   mutable SolutionState m_single_state;
+  // The last solve's start (capture_start) and the accelerated solve's vectors: storage kept
+  // for the next solve.
+  StartState m_start;
+  std::unique_ptr<KrylovWorkspace<Dim, Scalar>> m_krylov;
   std::unique_ptr<CoarseSolver<Dim, Scalar>> m_coarse;
   std::unique_ptr<GalerkinCoarseSolver<Dim, Scalar>>
       m_galerkin;  // coarsest_operator != REDISCRETIZED

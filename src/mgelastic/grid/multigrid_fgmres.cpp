@@ -54,17 +54,6 @@ const Level<Dim, double>& Multigrid<Dim, Scalar>::solution_level() const {
 
 namespace {
 
-// The INTERIOR variables of a level, field by field in lattice order. The Krylov vectors hold
-// one value per such variable: indexed over the whole box (field * size + k) they were 8-9x
-// larger on embedded bodies, and their serial passes dominated the solve (armadillo at 256
-// cells: 144 s and 11.6 GB for 19 cycles against 18 s and 2.3 GB for 41 plain cycles).
-template <int Dim>
-struct InteriorVariables {
-  std::array<std::vector<std::uint32_t>, Dim + 1> points;  // lattice points of each field
-  std::array<std::ptrdiff_t, Dim + 2> offset{};            // field f at [offset[f], offset[f + 1])
-  std::ptrdiff_t size() const { return offset[Dim + 1]; }
-};
-
 // Interior variables lie in live chunks (live_chunks.hpp), so the dead ones are skipped.
 template <int Dim, typename T>
 InteriorVariables<Dim> interior_variables(const Level<Dim, T>& level) {
@@ -132,11 +121,14 @@ void zero_fields(std::array<FieldArray<T>, Dim + 1>& fields, const LiveChunks& l
   for (FieldArray<T>& field : fields) zero_live_where_nonzero(field, live);
 }
 
-// A vector of n values on transparent huge pages (advised before the first touch): the basis
-// vectors are tens of megabytes each, and 4 KiB pages cost a fault each on first write.
-template <typename V = double>
-Eigen::Matrix<V, Eigen::Dynamic, 1> huge_vector(std::ptrdiff_t n) {
-  Eigen::Matrix<V, Eigen::Dynamic, 1> v(n);  // uninitialized: no page touched yet
+// v as n values, its storage kept when it has that size already, else fresh on transparent huge
+// pages (advised before the first touch): the basis vectors are tens of megabytes each, and 4 KiB
+// pages cost a fault each on first write.
+template <typename V>
+Eigen::Matrix<V, Eigen::Dynamic, 1>& sized(Eigen::Matrix<V, Eigen::Dynamic, 1>& v,
+                                           std::ptrdiff_t n) {
+  if (v.size() == n) return v;
+  v = Eigen::Matrix<V, Eigen::Dynamic, 1>(n);  // uninitialized: no page touched yet
   advise_huge_pages(v.data(), static_cast<std::size_t>(n) * sizeof(V));
   return v;
 }
@@ -194,18 +186,22 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
   const bool shared_level = static_cast<const void*>(&s) == static_cast<const void*>(&fine);
   // Where the solve starts: the divergence replay's start (and, on one level, its boundary
   // values).
-  const StartState start = capture_start();
+  const StartState& start = capture_start();
   std::array<FieldArray<double>, Dim + 1> saved_b;
   if (shared_level)
     for (int f = 0; f <= Dim; ++f) saved_b[f] = pack_live(s.b[f], s.live);
-  // The fine level shares the solution level's variable codes: one index set for both.
-  const InteriorVariables<Dim> vars = interior_variables(s);
-  Eigen::VectorXd x = huge_vector(vars.size());
+  // Every vector below keeps its storage across iterations, restarts and solves
+  // (krylov_workspace.hpp). The fine level shares the solution level's variable codes: one index
+  // set for both.
+  if (!m_krylov) {
+    m_krylov = std::make_unique<KrylovWorkspace<Dim, Scalar>>();
+    m_krylov->vars = interior_variables(s);
+  }
+  KrylovWorkspace<Dim, Scalar>& work = *m_krylov;
+  const InteriorVariables<Dim>& vars = work.vars;
+  Eigen::VectorXd& x = sized(work.x, vars.size());
   gather(vars, s.x, x);
-  // Every vector below keeps its storage across iterations and restarts: a fresh one would fault
-  // in its pages again (tens of megabytes each, several microseconds per page on a virtual
-  // machine).
-  Eigen::VectorXd residual = huge_vector(vars.size());
+  Eigen::VectorXd& residual = sized(work.residual, vars.size());
   const auto residual_into = [&](Eigen::VectorXd& out) {
     compute_residual(s);
     gather(vars, s.r, out);
@@ -228,7 +224,7 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
   // held: no second copy of the loads, no clearing of the level per iteration. The scale a, a
   // power of two (exact) near |r(x_I = 0)|, keeps the difference from cancelling: |A z| ~ |v| = 1.
   // On a shared level the cycles overwrite b and x, so both are cleared for each product.
-  Eigen::VectorXd r_zero = huge_vector(vars.size());
+  Eigen::VectorXd& r_zero = sized(work.r_zero, vars.size());
   double scale = 1;
   const auto clear_shared = [&] {
     zero_fields<Dim>(s.x, s.live);
@@ -263,7 +259,7 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
     cycle_correction();
     gather(vars, fine.x, z);
   };
-  Eigen::VectorXd r = huge_vector(vars.size());
+  Eigen::VectorXd& r = sized(work.r, vars.size());
   true_residual(r);
   report.residuals.push_back(norm(r));
   if (!std::isfinite(report.residuals.front()))
@@ -279,15 +275,13 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
   };
   // The Krylov basis, in double, and its preconditioned vectors, as the cycle returns them (in
   // the hierarchy's precision: exact, and half the bytes of a double in mixed precision).
-  std::vector<Eigen::VectorXd> v;
-  std::vector<ScalarVector> z;
+  std::vector<Eigen::VectorXd>& v = work.v;
+  std::vector<ScalarVector>& z = work.z;
   v.reserve(static_cast<std::size_t>(restart) + 1);  // references into them stay valid
   z.reserve(static_cast<std::size_t>(restart));
   const auto slot = [&](auto& list, int i) -> auto& {
-    using Vector = typename std::decay_t<decltype(list)>::value_type;
-    while (static_cast<int>(list.size()) <= i)
-      list.push_back(huge_vector<typename Vector::Scalar>(vars.size()));
-    return list[static_cast<std::size_t>(i)];
+    while (static_cast<int>(list.size()) <= i) list.emplace_back();
+    return sized(list[static_cast<std::size_t>(i)], vars.size());
   };
   int cycles = 0;
   double r_norm = report.residuals.front();
