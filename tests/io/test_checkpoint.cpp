@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -168,6 +170,15 @@ TEST(Checkpoint, NonzeroRunsKeepEveryBitAndStoreOnlyTheRuns) {
   EXPECT_GE(stored, nonzero);
   EXPECT_LT(stored, field.size() / 4);
   EXPECT_EQ(back.get<double>("grid.zeros").size(), 0u);
+  // Candidate ranges (a lattice's live chunks) that cover every non-zero value: the same field.
+  const std::vector<std::array<std::size_t, 2>> ranges{{0, 2600}, {2600, 4000}, {4000, 5000}};
+  Checkpoint ranged;
+  ranged.add_nonzero_runs<double>("grid.x0", field, ranges);
+  std::fill(out.begin(), out.end(), 9.0);
+  ranged.get_into<double>("grid.x0", out);
+  EXPECT_TRUE(same_bits(out, field));
+  const std::vector<std::array<std::size_t, 2>> overlapping{{0, 2600}, {2500, 5000}};
+  EXPECT_THROW(ranged.add_nonzero_runs<double>("grid.x1", field, overlapping), Error);
   // Arrays written densely (older checkpoints) read the same way.
   std::vector<double> dense(4, 9.0);
   back.get_into<double>("tet.positions", dense);

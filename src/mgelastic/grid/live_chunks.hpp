@@ -61,6 +61,22 @@ void for_each_live_chunk(const LiveChunks& live, std::ptrdiff_t begin, std::ptrd
       visit(std::max(begin, c * kLiveChunk), std::min(end, (c + 1) * kLiveChunk));
 }
 
+// The live chunks of an array of n values as ascending [begin, end) ranges, neighbors joined:
+// what a reader of the whole array must look at (checkpoints, io::Checkpoint::add_nonzero_runs).
+inline std::vector<std::array<std::size_t, 2>> live_ranges(const LiveChunks& live, std::size_t n) {
+  std::vector<std::array<std::size_t, 2>> ranges;
+  for_each_live_chunk(live, 0, static_cast<std::ptrdiff_t>(n),
+                      [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+                        const auto begin = static_cast<std::size_t>(lo);
+                        const auto end = static_cast<std::size_t>(hi);
+                        if (!ranges.empty() && ranges.back()[1] == begin)
+                          ranges.back()[1] = end;
+                        else
+                          ranges.push_back({begin, end});
+                      });
+  return ranges;
+}
+
 // Zeroes [begin, end) of v except its dead chunks (which hold zeros already).
 template <typename T>
 void zero_live(T* v, std::ptrdiff_t begin, std::ptrdiff_t end, const LiveChunks& live) {

@@ -1,5 +1,6 @@
 #include "mgelastic/io/checkpoint.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <fstream>
 #include <iterator>
@@ -19,15 +20,7 @@ constexpr std::size_t kHeaderBytes = 8 + 4 + 8 + 8;
 
 class Writer {
  public:
-  explicit Writer(std::size_t capacity = 0) { m_bytes.reserve(capacity); }
-  template <typename T>
-  void put(T value) {
-    raw(&value, sizeof value);
-  }
-  void put_string(const std::string& s) {
-    put(static_cast<std::uint32_t>(s.size()));
-    raw(s.data(), s.size());
-  }
+  explicit Writer(std::size_t capacity) { m_bytes.reserve(capacity); }
   void raw(const void* data, std::size_t n) {
     const auto* from = static_cast<const std::byte*>(data);
     m_bytes.insert(m_bytes.end(), from, from + n);
@@ -153,22 +146,26 @@ bool is_zero(const T& value) {
   return std::bit_cast<Bits>(value) == 0;
 }
 
-// (start, count) of the runs of non-zero values, gaps of fewer than kNonzeroRunGap zeros merged.
+// The length, then (start, count) of the runs of non-zero values inside `candidates`, gaps of
+// fewer than kNonzeroRunGap zeros merged.
 template <typename T>
-std::vector<std::int64_t> nonzero_runs(std::span<const T> values) {
+std::vector<std::int64_t> nonzero_runs(std::span<const T> values,
+                                       std::span<const std::array<std::size_t, 2>> candidates) {
   std::vector<std::int64_t> runs{static_cast<std::int64_t>(values.size())};
-  const std::size_t n = values.size();
-  std::size_t i = 0;
-  while (true) {
-    while (i < n && is_zero(values[i])) ++i;
-    if (i == n) break;
-    const std::size_t start = i;
-    std::size_t end = i + 1;  // one past the run's last non-zero value
-    for (std::size_t j = end; j < n && j - end < kNonzeroRunGap; ++j)
-      if (!is_zero(values[j])) end = j + 1;
-    runs.push_back(static_cast<std::int64_t>(start));
-    runs.push_back(static_cast<std::int64_t>(end - start));
-    i = end;
+  for (const auto& [begin, range_end] : candidates) {
+    const std::size_t n = std::min(range_end, values.size());
+    std::size_t i = begin;
+    while (true) {
+      while (i < n && is_zero(values[i])) ++i;
+      if (i >= n) break;
+      const std::size_t start = i;
+      std::size_t end = i + 1;  // one past the run's last non-zero value
+      for (std::size_t j = end; j < n && j - end < kNonzeroRunGap; ++j)
+        if (!is_zero(values[j])) end = j + 1;
+      runs.push_back(static_cast<std::int64_t>(start));
+      runs.push_back(static_cast<std::int64_t>(end - start));
+      i = end;
+    }
   }
   return runs;
 }
@@ -177,7 +174,17 @@ std::vector<std::int64_t> nonzero_runs(std::span<const T> values) {
 
 template <typename T>
 void Checkpoint::add_nonzero_runs(std::string name, std::span<const T> values) {
-  std::vector<std::int64_t> runs = nonzero_runs(values);
+  const std::array<std::size_t, 2> everything{0, values.size()};
+  add_nonzero_runs(std::move(name), values, std::span(&everything, 1));
+}
+
+template <typename T>
+void Checkpoint::add_nonzero_runs(std::string name, std::span<const T> values,
+                                  std::span<const std::array<std::size_t, 2>> candidates) {
+  for (std::size_t c = 0; c < candidates.size(); ++c)
+    if (candidates[c][0] > candidates[c][1] || (c > 0 && candidates[c][0] < candidates[c - 1][1]))
+      throw Error("add_nonzero_runs: candidate ranges must be ascending and disjoint");
+  std::vector<std::int64_t> runs = nonzero_runs(values, candidates);
   std::size_t stored = 0;
   for (std::size_t r = 1; r < runs.size(); r += 2) stored += static_cast<std::size_t>(runs[r + 1]);
   NamedArray data = take_spare(name);
@@ -239,6 +246,10 @@ void Checkpoint::get_into(std::string_view name, std::span<T> out) const {
 
 template void Checkpoint::add_nonzero_runs<double>(std::string, std::span<const double>);
 template void Checkpoint::add_nonzero_runs<float>(std::string, std::span<const float>);
+template void Checkpoint::add_nonzero_runs<double>(std::string, std::span<const double>,
+                                                   std::span<const std::array<std::size_t, 2>>);
+template void Checkpoint::add_nonzero_runs<float>(std::string, std::span<const float>,
+                                                  std::span<const std::array<std::size_t, 2>>);
 template void Checkpoint::get_into<double>(std::string_view, std::span<double>) const;
 template void Checkpoint::get_into<float>(std::string_view, std::span<float>) const;
 
@@ -254,33 +265,61 @@ std::uint64_t fnv1a64(std::string_view text) {
   return fnv1a64(std::as_bytes(std::span(text.data(), text.size())));
 }
 
-std::vector<std::byte> serialize_checkpoint(const Checkpoint& c) {
-  // Sized up front: the arrays are hundreds of megabytes for a large lattice, and growing the
-  // buffer step by step copied them several times.
-  std::size_t bytes = kHeaderBytes + 4 + c.engine.size() + 8 + 4 + 4 + 8 + 4;
-  for (const NamedArray& a : c.arrays) bytes += 4 + a.name.size() + 1 + 8 + a.bytes.size();
-  Writer file(bytes);
-  file.raw(kMagic, sizeof kMagic);
-  file.put(kCheckpointVersion);
-  file.put(static_cast<std::uint64_t>(bytes - kHeaderBytes));
-  file.put(std::uint64_t{0});  // the checksum, below
-  Writer& payload = file;
-  payload.put_string(c.engine);
-  payload.put(c.scene_fingerprint);
-  payload.put(c.threads);
-  payload.put(c.frame);
-  payload.put(c.time);
-  payload.put(static_cast<std::uint32_t>(c.arrays.size()));
+namespace {
+
+// The payload's pieces in file order: sink(data, bytes) for each.
+template <typename Sink>
+void emit_payload(const Checkpoint& c, Sink&& sink) {
+  const auto put = [&](const auto& value) { sink(&value, sizeof value); };
+  const auto put_string = [&](const std::string& text) {
+    put(static_cast<std::uint32_t>(text.size()));
+    sink(text.data(), text.size());
+  };
+  put_string(c.engine);
+  put(c.scene_fingerprint);
+  put(c.threads);
+  put(c.frame);
+  put(c.time);
+  put(static_cast<std::uint32_t>(c.arrays.size()));
   for (const NamedArray& a : c.arrays) {
-    payload.put_string(a.name);
-    payload.put(static_cast<std::uint8_t>(a.type));
-    payload.put(a.length);
-    payload.raw(a.bytes.data(), a.bytes.size());
+    put_string(a.name);
+    put(static_cast<std::uint8_t>(a.type));
+    put(a.length);
+    sink(a.bytes.data(), a.bytes.size());
   }
-  std::vector<std::byte>& out = file.bytes();
-  const std::uint64_t checksum = fnv1a64(std::span<const std::byte>(out).subspan(kHeaderBytes));
-  std::memcpy(out.data() + kHeaderBytes - sizeof checksum, &checksum, sizeof checksum);
-  return std::move(out);
+}
+
+struct PayloadFacts {
+  std::uint64_t bytes = 0;
+  std::uint64_t checksum = fnv1a64(std::span<const std::byte>());
+};
+
+PayloadFacts payload_facts(const Checkpoint& c) {
+  PayloadFacts facts;
+  emit_payload(c, [&](const void* data, std::size_t n) {
+    facts.bytes += n;
+    facts.checksum = fnv1a64(std::span(static_cast<const std::byte*>(data), n), facts.checksum);
+  });
+  return facts;
+}
+
+template <typename Sink>
+void emit_header(const PayloadFacts& facts, Sink&& sink) {
+  sink(kMagic, sizeof kMagic);
+  sink(&kCheckpointVersion, sizeof kCheckpointVersion);
+  sink(&facts.bytes, sizeof facts.bytes);
+  sink(&facts.checksum, sizeof facts.checksum);
+}
+
+}  // namespace
+
+std::vector<std::byte> serialize_checkpoint(const Checkpoint& c) {
+  const PayloadFacts facts = payload_facts(c);
+  Writer file(kHeaderBytes + facts.bytes);
+  const auto sink = [&](const void* data, std::size_t n) { file.raw(data, n); };
+  emit_header(facts, sink);
+  emit_payload(c, sink);
+  return std::move(file.bytes());
 }
 
 Checkpoint parse_checkpoint(std::span<const std::byte> bytes, const std::string& source) {
@@ -342,12 +381,17 @@ Checkpoint parse_checkpoint(std::span<const std::byte> bytes, const std::string&
 }
 
 void write_checkpoint(const std::filesystem::path& path, const Checkpoint& checkpoint) {
-  const std::vector<std::byte> bytes = serialize_checkpoint(checkpoint);
+  // Streamed from the arrays (the checksum first, in a pass of its own): no copy of a payload of
+  // hundreds of megabytes.
+  const PayloadFacts facts = payload_facts(checkpoint);
   write_file_atomically(
       path,
       [&](std::ostream& out) {
-        out.write(reinterpret_cast<const char*>(bytes.data()),
-                  static_cast<std::streamsize>(bytes.size()));
+        const auto sink = [&](const void* data, std::size_t n) {
+          out.write(static_cast<const char*>(data), static_cast<std::streamsize>(n));
+        };
+        emit_header(facts, sink);
+        emit_payload(checkpoint, sink);
       },
       true);
 }

@@ -414,12 +414,24 @@ double GridStepper::time() const {
   return m_time;
 }
 
+std::vector<std::array<std::size_t, 2>> GridStepper::lattice_ranges(std::size_t size) const {
+  const grid::LiveChunks* live = nullptr;
+  if (const auto* level = m_solver->level_float()) live = &level->live;
+  if (const auto* level = m_solver->level_double()) live = &level->live;
+  const std::size_t lattice = m_solver->level_float()    ? m_solver->level_float()->size()
+                              : m_solver->level_double() ? m_solver->level_double()->size()
+                                                         : 0;
+  if (live && lattice == size) return grid::live_ranges(*live, size);
+  return {{0, size}};
+}
+
 void GridStepper::save(io::Checkpoint& c, const std::vector<io::NamedArray>& attachments) const {
   // Straight from the solver's arrays: a run snapshots its state after every frame (the last
   // good state a failed frame saves, run_checkpoints.hpp).
   const auto& x = m_solver->unknowns_state();
+  const auto ranges = lattice_ranges(x[0].size());
   for (std::size_t f = 0; f < x.size(); ++f)
-    c.add_nonzero_runs<double>("grid.x" + std::to_string(f), x[f]);
+    c.add_nonzero_runs<double>("grid.x" + std::to_string(f), x[f], ranges);
   c.arrays.insert(c.arrays.end(), attachments.begin(), attachments.end());
   m_solver->save_carried(c);
 }
@@ -460,7 +472,9 @@ void GridStepper::save_start(io::Checkpoint& c) {
   if (m_loads_changed) reload_loads();
   save(c, {});
   const auto& b = m_solver->right_hand_side();
-  for (std::size_t f = 0; f < b.size(); ++f) c.add_nonzero_runs<double>(start_rhs_name(f), b[f]);
+  const auto ranges = lattice_ranges(b[0].size());
+  for (std::size_t f = 0; f < b.size(); ++f)
+    c.add_nonzero_runs<double>(start_rhs_name(f), b[f], ranges);
 }
 
 void GridStepper::return_to_start(const io::Checkpoint& start) {
