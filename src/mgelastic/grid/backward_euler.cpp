@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "mgelastic/core/error.hpp"
+#include "mgelastic/grid/live_chunks.hpp"
 #include "mgelastic/grid/residual.hpp"
 
 namespace mgelastic::grid {
@@ -44,14 +45,45 @@ double backward_euler_inertia(const TimeStepOptions& o) {
 }
 
 template <int Dim>
+void allocate_step_state(const Level<Dim, double>& level,
+                         std::array<FieldArray<double>, Dim + 1>& static_rhs,
+                         std::array<FieldArray<double>, Dim>& velocity,
+                         std::array<FieldArray<double>, Dim>& previous) {
+  for (int f = 0; f <= Dim; ++f) {
+    assign_zeros_sparse(static_rhs[f], level.size(), level.live);
+    assign_live(static_rhs[f], level.b[f], level.live);
+  }
+  for (int i = 0; i < Dim; ++i) {
+    assign_zeros_sparse(velocity[i], level.size(), level.live);
+    assign_zeros_sparse(previous[i], level.size(), level.live);
+  }
+}
+
+template <int Dim>
+void start_step(Level<Dim, double>& level, const std::array<FieldArray<double>, Dim>& velocity,
+                double dt, std::array<FieldArray<double>, Dim>& previous) {
+  const auto n = static_cast<std::ptrdiff_t>(level.size());
+  parallel_for_each_live_chunk(level.live, n, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    for (int i = 0; i < Dim; ++i) {
+      std::copy(level.x[i].begin() + lo, level.x[i].begin() + hi, previous[i].begin() + lo);
+      for (std::ptrdiff_t k = lo; k < hi; ++k)
+        if (level.kind(i, k) == VarKind::INTERIOR) level.x[i][k] += dt * velocity[i][k];
+    }
+  });
+}
+
+template <int Dim>
 void sample_face_velocity(const Level<Dim, double>& level,
                           const std::function<Vec<Dim>(const Vec<Dim>&)>& velocity,
                           std::array<FieldArray<double>, Dim>& out) {
   for (int i = 0; i < Dim; ++i)
-    for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(level.size()); ++k)
-      out[i][k] = level.kind(i, k) == VarKind::INACTIVE
-                      ? 0.0
-                      : velocity(level.lattice.face_center(i, k))[i];
+    for_each_live_chunk(level.live, 0, static_cast<std::ptrdiff_t>(level.size()),
+                        [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+                          for (std::ptrdiff_t k = lo; k < hi; ++k)
+                            out[i][k] = level.kind(i, k) == VarKind::INACTIVE
+                                            ? 0.0
+                                            : velocity(level.lattice.face_center(i, k))[i];
+                        });
 }
 
 template <int Dim>
@@ -62,30 +94,38 @@ void write_step_right_hand_side(Level<Dim, double>& level,
   const double dt = options.dt, gamma = options.damping, c = inertia;
   const double beta = 1.0 + gamma / dt;
   const auto n = static_cast<std::ptrdiff_t>(level.size());
-  for (int i = 0; i < Dim; ++i) {
-    for (std::ptrdiff_t k = 0; k < n; ++k) {
-      if (level.kind(i, k) != VarKind::INTERIOR) {
-        level.b[i][k] = static_rhs[i][k];
-        continue;
+  // Live chunks only (the dead ones hold zeros in every array here), in parallel.
+  parallel_for_each_live_chunk(level.live, n, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    for (int i = 0; i < Dim; ++i) {
+      for (std::ptrdiff_t k = lo; k < hi; ++k) {
+        if (level.kind(i, k) != VarKind::INTERIOR) {
+          level.b[i][k] = static_rhs[i][k];
+          continue;
+        }
+        const double u = level.x[i][k];
+        const double damping_force = gamma > 0 ? (gamma / dt) * (c * u - level.r[i][k]) : 0.0;
+        level.b[i][k] =
+            (static_rhs[i][k] + damping_force - (options.density / dt) * velocity[i][k]) / beta -
+            c * u;
       }
-      const double u = level.x[i][k];
-      const double damping_force = gamma > 0 ? (gamma / dt) * (c * u - level.r[i][k]) : 0.0;
-      level.b[i][k] =
-          (static_rhs[i][k] + damping_force - (options.density / dt) * velocity[i][k]) / beta -
-          c * u;
     }
-  }
-  level.b[Dim] = static_rhs[Dim];
+    std::copy(static_rhs[Dim].begin() + lo, static_rhs[Dim].begin() + hi,
+              level.b[Dim].begin() + lo);
+  });
 }
 
 template <int Dim>
 void update_face_velocity(const Level<Dim, double>& level,
                           const std::array<FieldArray<double>, Dim>& previous, double dt,
                           std::array<FieldArray<double>, Dim>& velocity) {
-  for (int i = 0; i < Dim; ++i)
-    for (std::size_t k = 0; k < level.size(); ++k)
-      velocity[i][k] =
-          level.kind(i, k) == VarKind::INACTIVE ? 0.0 : (level.x[i][k] - previous[i][k]) / dt;
+  parallel_for_each_live_chunk(level.live, static_cast<std::ptrdiff_t>(level.size()),
+                               [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+                                 for (int i = 0; i < Dim; ++i)
+                                   for (std::ptrdiff_t k = lo; k < hi; ++k)
+                                     velocity[i][k] = level.kind(i, k) == VarKind::INACTIVE
+                                                          ? 0.0
+                                                          : (level.x[i][k] - previous[i][k]) / dt;
+                               });
 }
 
 template <int Dim>
@@ -104,17 +144,22 @@ Error diverged_step(double time, const std::string& reason) {
   return Error(text.str(), ErrorContext{.pointer = "time"});
 }
 
-#define MGELASTIC_INSTANTIATE(D)                                                          \
-  template void sample_face_velocity<D>(const Level<D, double>&,                          \
-                                        const std::function<Vec<D>(const Vec<D>&)>&,      \
-                                        std::array<FieldArray<double>, D>&);              \
-  template void write_step_right_hand_side<D>(                                            \
-      Level<D, double>&, const std::array<FieldArray<double>, D + 1>&,                    \
-      const std::array<FieldArray<double>, D>&, const TimeStepOptions&, double);          \
-  template void update_face_velocity<D>(const Level<D, double>&,                          \
-                                        const std::array<FieldArray<double>, D>&, double, \
-                                        std::array<FieldArray<double>, D>&);              \
-  template double face_kinetic_energy<D>(const Level<D, double>&,                         \
+#define MGELASTIC_INSTANTIATE(D)                                                                   \
+  template void sample_face_velocity<D>(const Level<D, double>&,                                   \
+                                        const std::function<Vec<D>(const Vec<D>&)>&,               \
+                                        std::array<FieldArray<double>, D>&);                       \
+  template void allocate_step_state<D>(                                                            \
+      const Level<D, double>&, std::array<FieldArray<double>, D + 1>&,                             \
+      std::array<FieldArray<double>, D>&, std::array<FieldArray<double>, D>&);                     \
+  template void start_step<D>(Level<D, double>&, const std::array<FieldArray<double>, D>&, double, \
+                              std::array<FieldArray<double>, D>&);                                 \
+  template void write_step_right_hand_side<D>(                                                     \
+      Level<D, double>&, const std::array<FieldArray<double>, D + 1>&,                             \
+      const std::array<FieldArray<double>, D>&, const TimeStepOptions&, double);                   \
+  template void update_face_velocity<D>(const Level<D, double>&,                                   \
+                                        const std::array<FieldArray<double>, D>&, double,          \
+                                        std::array<FieldArray<double>, D>&);                       \
+  template double face_kinetic_energy<D>(const Level<D, double>&,                                  \
                                          const std::array<FieldArray<double>, D>&, double);
 MGELASTIC_INSTANTIATE(2)
 MGELASTIC_INSTANTIATE(3)
@@ -127,12 +172,7 @@ BackwardEuler<Dim, Scalar>::BackwardEuler(ElasticityProblem<Dim> problem,
     : m_options((validate(options), options)),
       m_inertia(backward_euler_inertia(options)),
       m_multigrid(with_inertia(std::move(problem), m_inertia), multigrid) {
-  Level<Dim, double>& level = m_multigrid.solution_level();
-  m_static_rhs = level.b;
-  for (int i = 0; i < Dim; ++i) {
-    m_velocity[i].assign(level.size(), 0.0);
-    m_previous[i].assign(level.size(), 0.0);
-  }
+  allocate_step_state<Dim>(m_multigrid.solution_level(), m_static_rhs, m_velocity, m_previous);
 }
 
 template <int Dim, typename Scalar>
@@ -144,7 +184,7 @@ template <int Dim, typename Scalar>
 void BackwardEuler<Dim, Scalar>::set_loads(ElasticityProblem<Dim> problem) {
   m_multigrid.set_loads(with_inertia(std::move(problem), m_inertia));
   // set_loads leaves the static right-hand side in b; each step builds its own b from it.
-  m_static_rhs = m_multigrid.solution_level().b;
+  assign_live(m_static_rhs, m_multigrid.solution_level().b, m_multigrid.solution_level().live);
 }
 
 template <int Dim, typename Scalar>
@@ -159,15 +199,10 @@ void BackwardEuler<Dim, Scalar>::assemble_right_hand_side(Level<Dim, double>& le
 template <int Dim, typename Scalar>
 SolveReport BackwardEuler<Dim, Scalar>::step(const VectorField& dirichlet) {
   Level<Dim, double>& level = m_multigrid.solution_level();
-  const auto n = static_cast<std::ptrdiff_t>(level.size());
   const double dt = m_options.dt;
   assemble_right_hand_side(level);
   // Warm start: the previous step's displacement moved on by its velocity.
-  for (int i = 0; i < Dim; ++i) {
-    m_previous[i] = level.x[i];
-    for (std::ptrdiff_t k = 0; k < n; ++k)
-      if (level.kind(i, k) == VarKind::INTERIOR) level.x[i][k] += dt * m_velocity[i][k];
-  }
+  start_step<Dim>(level, m_velocity, dt, m_previous);
   m_multigrid.set_dirichlet_displacement(dirichlet);  // also back-substitutes tractions
   SolveReport report;
   try {

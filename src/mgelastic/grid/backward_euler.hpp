@@ -45,6 +45,19 @@ void validate(const TimeStepOptions& options);
 // The c of the step equation above.
 double backward_euler_inertia(const TimeStepOptions& options);
 
+// A step's carried arrays on `level`'s lattice: zero storage whose dead chunks are never written
+// (live_chunks.hpp; the step's passes visit the live chunks only), static_rhs = level.b.
+template <int Dim>
+void allocate_step_state(const Level<Dim, double>& level,
+                         std::array<FieldArray<double>, Dim + 1>& static_rhs,
+                         std::array<FieldArray<double>, Dim>& velocity,
+                         std::array<FieldArray<double>, Dim>& previous);
+
+// The step's start: previous = u, then u += dt v at the interior faces (the warm start).
+template <int Dim>
+void start_step(Level<Dim, double>& level, const std::array<FieldArray<double>, Dim>& velocity,
+                double dt, std::array<FieldArray<double>, Dim>& previous);
+
 // Samples `velocity` at the face variables of `level` (0 at inactive faces) into `out`.
 template <int Dim>
 void sample_face_velocity(const Level<Dim, double>& level,

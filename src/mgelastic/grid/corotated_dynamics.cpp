@@ -24,12 +24,7 @@ CorotatedBackwardEuler<Dim>::CorotatedBackwardEuler(ElasticityProblem<Dim> probl
     : m_options((validate(options), options)),
       m_inertia(backward_euler_inertia(options)),
       m_multigrid(with_inertia(std::move(problem), m_inertia), multigrid, corotated) {
-  const Level<Dim, double>& level = m_multigrid.solution_level();
-  m_static_rhs = level.b;
-  for (int i = 0; i < Dim; ++i) {
-    m_velocity[i].assign(level.size(), 0.0);
-    m_previous[i].assign(level.size(), 0.0);
-  }
+  allocate_step_state<Dim>(m_multigrid.solution_level(), m_static_rhs, m_velocity, m_previous);
 }
 
 template <int Dim>
@@ -41,7 +36,7 @@ template <int Dim>
 void CorotatedBackwardEuler<Dim>::set_loads(ElasticityProblem<Dim> problem) {
   m_multigrid.set_loads(with_inertia(std::move(problem), m_inertia));
   // set_loads leaves the static right-hand side in b; each step builds its own b from it.
-  m_static_rhs = m_multigrid.solution_level().b;
+  assign_live(m_static_rhs, m_multigrid.solution_level().b, m_multigrid.solution_level().live);
 }
 
 template <int Dim>
@@ -57,14 +52,9 @@ void CorotatedBackwardEuler<Dim>::assemble_right_hand_side() {
 template <int Dim>
 CorotatedReport CorotatedBackwardEuler<Dim>::step(const VectorField& dirichlet) {
   Level<Dim, double>& level = m_multigrid.solution_level();
-  const auto n = static_cast<std::ptrdiff_t>(level.size());
   const double dt = m_options.dt;
   assemble_right_hand_side();
-  for (int i = 0; i < Dim; ++i) {
-    m_previous[i] = level.x[i];
-    for (std::ptrdiff_t k = 0; k < n; ++k)
-      if (level.kind(i, k) == VarKind::INTERIOR) level.x[i][k] += dt * m_velocity[i][k];
-  }
+  start_step<Dim>(level, m_velocity, dt, m_previous);
   m_multigrid.set_dirichlet_displacement(dirichlet);  // also back-substitutes tractions
   CorotatedReport report;
   try {

@@ -105,6 +105,18 @@ void zero_live_where_nonzero(FieldArray<T>& v, const LiveChunks& live) {
   }
 }
 
+// visit(lo, hi) for every live chunk [lo, hi) of an array of n values, chunks spread over the
+// threads (visits must be independent): whole-lattice passes that skip the dead chunks, whose
+// reads would each fault in a zero page.
+template <typename Visit>
+void parallel_for_each_live_chunk(const LiveChunks& live, std::ptrdiff_t n, Visit&& visit) {
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t lo = 0; lo < n; lo += kLiveChunk) {
+    const std::ptrdiff_t hi = std::min(lo + kLiveChunk, n);
+    if (live.any_live(lo, hi)) visit(lo, hi);
+  }
+}
+
 // Whether v holds only zeros (its dead chunks do by the invariant above; reads map no memory).
 template <typename T>
 bool zero_where_live(const FieldArray<T>& v, const LiveChunks& live) {

@@ -68,10 +68,13 @@ StepStats corotated_stats(const grid::CorotatedReport& r) {
           .seconds = r.seconds};
 }
 
-// Carried state beyond the unknowns. Velocities of a dynamic run: "grid.v0".."grid.v2".
-void add_velocity(io::Checkpoint& c, const std::array<grid::FieldArray<double>, 3>& v) {
+// Carried state beyond the unknowns. Velocities of a dynamic run: "grid.v0".."grid.v2", zero
+// outside the level's live chunks (grid::allocate_step_state), which are not read.
+void add_velocity(io::Checkpoint& c, const std::array<grid::FieldArray<double>, 3>& v,
+                  const grid::LiveChunks& live) {
+  const auto ranges = grid::live_ranges(live, v[0].size());
   for (std::size_t f = 0; f < v.size(); ++f)
-    c.add_nonzero_runs<double>("grid.v" + std::to_string(f), v[f]);
+    c.add_nonzero_runs<double>("grid.v" + std::to_string(f), v[f], ranges);
 }
 
 // Array `name` of checkpoint c as a field of `size` values (Checkpoint::get_into checks the
@@ -277,7 +280,10 @@ class LinearDynamic final : public Dynamic<grid::BackwardEuler<3, Scalar>, Scala
   void set_loads(const grid::ElasticityProblem<3>& problem) override {
     this->m_sim.set_loads(problem);
   }
-  void save_carried(io::Checkpoint& c) const override { add_velocity(c, this->m_sim.velocity()); }
+  void save_carried(io::Checkpoint& c) const override {
+    const auto& hierarchy = this->m_sim.multigrid();
+    add_velocity(c, this->m_sim.velocity(), hierarchy.solution_level().live);
+  }
   void restore_carried(const io::Checkpoint& c) override {
     restore_velocity(c, this->m_sim.velocity());
     this->m_sim.set_time(c.time);
@@ -322,7 +328,7 @@ class CorotatedDynamic final : public Dynamic<grid::CorotatedBackwardEuler<3>, d
   }
   void set_loads(const grid::ElasticityProblem<3>& problem) override { m_sim.set_loads(problem); }
   void save_carried(io::Checkpoint& c) const override {
-    add_velocity(c, m_sim.velocity());
+    add_velocity(c, m_sim.velocity(), m_sim.multigrid().solution_level().live);
     add_corotated(c, m_sim.multigrid());
   }
   void restore_carried(const io::Checkpoint& c) override {
