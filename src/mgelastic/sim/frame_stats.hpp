@@ -25,7 +25,7 @@ struct FrameStats {
   int cycles = 0;   // summed over the steps
   double worst_residual = 0;  // worst relative residual of the steps
   bool converged = true;
-  double solve_seconds = 0;
+  double solve_seconds = 0;  // wall time of the steps (grid: the whole step, not only its cycles)
   double rotate_seconds = 0, assemble_seconds = 0;  // tet engine phases
   std::vector<StepStats> step_stats;                // each step (tet quasistatic: the last round)
 };
