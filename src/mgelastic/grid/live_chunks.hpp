@@ -89,22 +89,6 @@ void zero_live(FieldArray<T>& v, const LiveChunks& live) {
   zero_live(v.data(), 0, static_cast<std::ptrdiff_t>(v.size()), live);
 }
 
-// zero_live that writes only the live chunks holding a nonzero: pages of a right-hand side that
-// release_zero_pages handed back stay without memory where they were zero (reads map none).
-// Chunk by chunk on all threads (the Krylov solve clears whole levels once per iteration).
-template <typename T>
-void zero_live_where_nonzero(FieldArray<T>& v, const LiveChunks& live) {
-  T* data = v.data();
-  const auto size = static_cast<std::ptrdiff_t>(v.size());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t lo = 0; lo < size; lo += kLiveChunk) {
-    const std::ptrdiff_t hi = std::min(lo + kLiveChunk, size);
-    if (live.any_live(lo, hi) &&
-        std::any_of(data + lo, data + hi, [](T value) { return value != T(0); }))
-      std::fill(data + lo, data + hi, T(0));
-  }
-}
-
 // visit(lo, hi) for every live chunk [lo, hi) of an array of n values, chunks spread over the
 // threads (visits must be independent): whole-lattice passes that skip the dead chunks, whose
 // reads would each fault in a zero page.
@@ -115,6 +99,19 @@ void parallel_for_each_live_chunk(const LiveChunks& live, std::ptrdiff_t n, Visi
     const std::ptrdiff_t hi = std::min(lo + kLiveChunk, n);
     if (live.any_live(lo, hi)) visit(lo, hi);
   }
+}
+
+// zero_live that writes only the live chunks holding a nonzero: pages of a right-hand side that
+// release_zero_pages handed back stay without memory where they were zero (reads map none).
+// On all threads (the Krylov solve clears whole levels).
+template <typename T>
+void zero_live_where_nonzero(FieldArray<T>& v, const LiveChunks& live) {
+  T* data = v.data();
+  parallel_for_each_live_chunk(
+      live, static_cast<std::ptrdiff_t>(v.size()), [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+        if (std::any_of(data + lo, data + hi, [](T value) { return value != T(0); }))
+          std::fill(data + lo, data + hi, T(0));
+      });
 }
 
 // Whether v holds only zeros (its dead chunks do by the invariant above; reads map no memory).

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <bit>
 #include <fstream>
-#include <iterator>
 #include <type_traits>
 
 #include "mgelastic/core/error.hpp"
@@ -17,19 +16,6 @@ static_assert(std::endian::native == std::endian::little,
 
 constexpr char kMagic[8] = {'M', 'G', 'E', 'C', 'K', 'P', 'T', '\0'};
 constexpr std::size_t kHeaderBytes = 8 + 4 + 8 + 8;
-
-class Writer {
- public:
-  explicit Writer(std::size_t capacity) { m_bytes.reserve(capacity); }
-  void raw(const void* data, std::size_t n) {
-    const auto* from = static_cast<const std::byte*>(data);
-    m_bytes.insert(m_bytes.end(), from, from + n);
-  }
-  std::vector<std::byte>& bytes() { return m_bytes; }
-
- private:
-  std::vector<std::byte> m_bytes;
-};
 
 // Reads from the payload; every read checks the remaining length, so a truncated or corrupted
 // file fails with a message instead of reading past the end.
@@ -315,11 +301,15 @@ void emit_header(const PayloadFacts& facts, Sink&& sink) {
 
 std::vector<std::byte> serialize_checkpoint(const Checkpoint& c) {
   const PayloadFacts facts = payload_facts(c);
-  Writer file(kHeaderBytes + facts.bytes);
-  const auto sink = [&](const void* data, std::size_t n) { file.raw(data, n); };
+  std::vector<std::byte> file;
+  file.reserve(kHeaderBytes + facts.bytes);
+  const auto sink = [&](const void* data, std::size_t n) {
+    const auto* from = static_cast<const std::byte*>(data);
+    file.insert(file.end(), from, from + n);
+  };
   emit_header(facts, sink);
   emit_payload(c, sink);
-  return std::move(file.bytes());
+  return file;
 }
 
 Checkpoint parse_checkpoint(std::span<const std::byte> bytes, const std::string& source) {

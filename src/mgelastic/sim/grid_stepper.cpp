@@ -69,7 +69,7 @@ StepStats corotated_stats(const grid::CorotatedReport& r) {
 }
 
 // Carried state beyond the unknowns. Velocities of a dynamic run: "grid.v0".."grid.v2", zero
-// outside the level's live chunks (grid::allocate_step_state), which are not read.
+// outside the lattice's live chunks (grid::allocate_step_state), which are not read.
 void add_velocity(io::Checkpoint& c, const std::array<grid::FieldArray<double>, 3>& v,
                   const grid::LiveChunks& live) {
   const auto ranges = grid::live_ranges(live, v[0].size());
@@ -150,6 +150,8 @@ class GridStepper::Solver {
   // The finest level and its unknowns (fields and checkpoints).
   virtual const grid::Level<3, double>* level_double() const { return nullptr; }
   virtual const grid::Level<3, float>* level_float() const { return nullptr; }
+  // The finest lattice's live chunks (grid/live_chunks.hpp): lattice fields are zero outside.
+  virtual const grid::LiveChunks& live_chunks() const = 0;
   // The linear model's double solution level (reactions); null for the co-rotated model.
   virtual const grid::Level<3, double>* linear_solution() const { return nullptr; }
   virtual double solution(int field, std::ptrdiff_t k) const = 0;
@@ -182,6 +184,7 @@ class HierarchySolver : public GridStepper::Solver {
     if constexpr (std::is_same_v<Scalar, float>) return &hierarchy().finest();
     return nullptr;
   }
+  const grid::LiveChunks& live_chunks() const override { return hierarchy().finest().live; }
   double solution(int field, std::ptrdiff_t k) const override {
     return hierarchy().solution(field, k);
   }
@@ -281,8 +284,7 @@ class LinearDynamic final : public Dynamic<grid::BackwardEuler<3, Scalar>, Scala
     this->m_sim.set_loads(problem);
   }
   void save_carried(io::Checkpoint& c) const override {
-    const auto& hierarchy = this->m_sim.multigrid();
-    add_velocity(c, this->m_sim.velocity(), hierarchy.solution_level().live);
+    add_velocity(c, this->m_sim.velocity(), this->live_chunks());
   }
   void restore_carried(const io::Checkpoint& c) override {
     restore_velocity(c, this->m_sim.velocity());
@@ -328,7 +330,7 @@ class CorotatedDynamic final : public Dynamic<grid::CorotatedBackwardEuler<3>, d
   }
   void set_loads(const grid::ElasticityProblem<3>& problem) override { m_sim.set_loads(problem); }
   void save_carried(io::Checkpoint& c) const override {
-    add_velocity(c, m_sim.velocity(), m_sim.multigrid().solution_level().live);
+    add_velocity(c, m_sim.velocity(), live_chunks());
     add_corotated(c, m_sim.multigrid());
   }
   void restore_carried(const io::Checkpoint& c) override {
@@ -424,22 +426,11 @@ double GridStepper::time() const {
   return m_time;
 }
 
-std::vector<std::array<std::size_t, 2>> GridStepper::lattice_ranges(std::size_t size) const {
-  const grid::LiveChunks* live = nullptr;
-  if (const auto* level = m_solver->level_float()) live = &level->live;
-  if (const auto* level = m_solver->level_double()) live = &level->live;
-  const std::size_t lattice = m_solver->level_float()    ? m_solver->level_float()->size()
-                              : m_solver->level_double() ? m_solver->level_double()->size()
-                                                         : 0;
-  if (live && lattice == size) return grid::live_ranges(*live, size);
-  return {{0, size}};
-}
-
 void GridStepper::save(io::Checkpoint& c, const std::vector<io::NamedArray>& attachments) const {
   // Straight from the solver's arrays: a run snapshots its state after every frame (the last
   // good state a failed frame saves, run_checkpoints.hpp).
   const auto& x = m_solver->unknowns_state();
-  const auto ranges = lattice_ranges(x[0].size());
+  const auto ranges = grid::live_ranges(m_solver->live_chunks(), x[0].size());
   for (std::size_t f = 0; f < x.size(); ++f)
     c.add_nonzero_runs<double>("grid.x" + std::to_string(f), x[f], ranges);
   c.arrays.insert(c.arrays.end(), attachments.begin(), attachments.end());
@@ -482,7 +473,7 @@ void GridStepper::save_start(io::Checkpoint& c) {
   if (m_loads_changed) reload_loads();
   save(c, {});
   const auto& b = m_solver->right_hand_side();
-  const auto ranges = lattice_ranges(b[0].size());
+  const auto ranges = grid::live_ranges(m_solver->live_chunks(), b[0].size());
   for (std::size_t f = 0; f < b.size(); ++f)
     c.add_nonzero_runs<double>(start_rhs_name(f), b[f], ranges);
 }

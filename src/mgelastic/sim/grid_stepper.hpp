@@ -49,8 +49,8 @@ class GridStepper {
   void restore(const io::Checkpoint& c);
   // The start of the next frame, to return to after a cancelled step (core/cancellation.hpp):
   // save()'s arrays and the solution level's right-hand side, which a cancelled solve may leave
-  // half-way (a co-rotated load increment's blend). Loads
-  // changed since the last step go into the solver first. return_to_start restores it without a
+  // half-way (a co-rotated load increment's blend). Loads changed since the last step go into
+  // the solver first. return_to_start restores it without a
   // hierarchy build (co-rotated: its rows from the carried rotations, as restore() does); the
   // continuation is then that of a resumed checkpoint.
   void save_start(io::Checkpoint& start);
@@ -101,9 +101,6 @@ class GridStepper {
   class Solver;  // one of the four model x integrator combinations
 
  private:
-  // The finest lattice's live chunks as ranges, for the checkpoints' lattice fields of `size`
-  // values (all of it when the sizes differ).
-  std::vector<std::array<std::size_t, 2>> lattice_ranges(std::size_t size) const;
   void invalidate();
   void reload_loads();
   const scene::Scene* m_scene;
