@@ -48,14 +48,14 @@ struct CorotatedBandSmoother<Dim>::Sweep {
       b[f] = level.b[f].data();
     }
   }
-  double& at(std::uint32_t v) const { return x[v / n][v % n]; }
+  double& at(std::uint32_t v) const { return GlobalSplit<Dim>{n}(x, v); }
 
   double residual(std::uint32_t m) const {
     double value = rows.constant[m];
     for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e)
       value += rows.value[e] * at(rows.column[e]);
     const std::uint32_t t = rows.target[m];
-    return b[t / n][t % n] - value;
+    return GlobalSplit<Dim>{n}(b, t) - value;
   }
 
   // Moves the row's variable and keeps the eliminated pressures exact.

@@ -110,7 +110,7 @@ void CorotatedDistributiveSmoother<Dim>::sweep(Level<Dim, double>& level,
   const auto n = static_cast<std::uint32_t>(level.size());
   std::array<double*, Dim + 1> x;
   for (int f = 0; f <= Dim; ++f) x[f] = level.x[f].data();
-  const auto at = [&](std::uint32_t v) -> double& { return x[v / n][v % n]; };
+  const auto at = [&](std::uint32_t v) -> double& { return GlobalSplit<Dim>{n}(x, v); };
   const auto relax = [&](int field, std::ptrdiff_t k) {
     const std::int32_t m = rows.row_of[level.global(field, k)];
     if (m < 0 || m_inverse_diagonal[m] == 0) return;

@@ -31,18 +31,20 @@ struct CorotatedMultigrid<Dim>::Blocks {
   std::vector<std::uint32_t> relocated;
   // Blocks holding a row the linear level relaxes in its band (DISTRIBUTIVE smoother only).
   std::vector<std::uint32_t> band;
+  void clear() {
+    start.assign(1, 0);
+    rows.clear();
+    inverse_start.assign(1, 0);
+    inverse.clear();
+    relocated.clear();
+    band.clear();
+  }
 };
 
 template <int Dim>
 struct CorotatedMultigrid<Dim>::Interior {
   CorotatedDistributiveSmoother<Dim> smoother;
   CorotatedBandSmoother<Dim> band;
-};
-
-template <int Dim>
-struct CorotatedMultigrid<Dim>::FreshRows {
-  std::vector<Matrix<Dim>> rotations;
-  CorotatedRows rows;
 };
 
 template <int Dim>
@@ -144,42 +146,32 @@ void CorotatedMultigrid<Dim>::set_loads(const ElasticityProblem<Dim>& problem) {
   set_traction_scale(1.0);
   m_rows[0].constant =
       build_corotated_rows(finest, m_rotations[0], m_sigma, false, m_options.stress).constant;
-  m_fresh.reset();  // rows of the old loads
+  m_fresh_rotations = false;
   m_equilibrium = current_load();
 }
 
 template <int Dim>
 void CorotatedMultigrid<Dim>::refresh_rotations() {
-  FreshRows fresh;
-  fresh.rotations = cell_rotations(m_multigrid.level(0));
-  fresh.rows =
-      build_corotated_rows(m_multigrid.level(0), fresh.rotations, m_sigma, false, m_options.stress);
-  refresh_rotations(std::move(fresh));
+  cell_rotations(m_multigrid.level(0), m_rotations[0]);
+  refresh_levels();
 }
 
+// Every level's system from the finest rotations m_rotations[0].
 template <int Dim>
-void CorotatedMultigrid<Dim>::refresh_rotations(FreshRows fresh) {
-  m_rotations[0] = std::move(fresh.rotations);
+void CorotatedMultigrid<Dim>::refresh_levels() {
   for (int l = 1; l < levels(); ++l) {
     const auto& fine = m_multigrid.level(l - 1);
     m_rotations[l] = restrict_rotations(fine.lattice, fine.cells, m_rotations[l - 1],
                                         m_multigrid.level(l).lattice);
   }
-  build_level_system(0, std::move(fresh.rows));
-  for (int l = 1; l < levels(); ++l) build_level_system(l);
+  for (int l = 0; l < levels(); ++l) build_level_system(l);
   m_cycles_since_refresh = 0;
 }
 
 template <int Dim>
 void CorotatedMultigrid<Dim>::build_level_system(int l) {
-  build_level_system(l, build_corotated_rows(m_multigrid.level(l), m_rotations[l], m_sigma, l > 0,
-                                             m_options.stress));
-}
-
-template <int Dim>
-void CorotatedMultigrid<Dim>::build_level_system(int l, CorotatedRows rows_of_level) {
   const auto& level = m_multigrid.level(l);
-  m_rows[l] = std::move(rows_of_level);
+  build_corotated_rows(level, m_rotations[l], m_sigma, l > 0, m_options.stress, m_rows[l]);
   const int coarsest = levels() - 1;
   if (l == coarsest) {
     const CorotatedRows& rows = m_rows[l];
@@ -198,7 +190,10 @@ void CorotatedMultigrid<Dim>::build_level_system(int l, CorotatedRows rows_of_le
       throw Error("the co-rotated coarsest-level matrix is singular (a body without support?)");
     return;
   }
-  auto blocks = std::make_unique<Blocks>();
+  // Refilled in place (a refresh rebuilds them all).
+  if (!m_blocks[l]) m_blocks[l] = std::make_unique<Blocks>();
+  Blocks* blocks = m_blocks[l].get();
+  blocks->clear();
   build_blocks(level, m_rows[l], blocks->start, blocks->rows, blocks->inverse_start,
                blocks->inverse);
   std::vector<std::uint8_t> marked(m_rows[l].rows(), 0);
@@ -225,7 +220,6 @@ void CorotatedMultigrid<Dim>::build_level_system(int l, CorotatedRows rows_of_le
       }
     m_interior[l] = std::make_unique<Interior>(Interior{{level, m_rows[l]}, {level, m_rows[l]}});
   }
-  m_blocks[l] = std::move(blocks);
 }
 
 template <int Dim>
@@ -238,7 +232,7 @@ void CorotatedMultigrid<Dim>::box_sweep(int l, bool forward, BlockSet set) {
   auto& level = m_multigrid.level(l);
   const CorotatedRows& rows = m_rows[l];
   const Blocks& blocks = *m_blocks[l];
-  const std::size_t n = level.size();
+  const GlobalSplit<Dim> split = level.split();
   const std::vector<std::uint32_t>* subset = set == BlockSet::BAND        ? &blocks.band
                                              : set == BlockSet::RELOCATED ? &blocks.relocated
                                                                           : nullptr;
@@ -257,7 +251,7 @@ void CorotatedMultigrid<Dim>::box_sweep(int l, bool forward, BlockSet set) {
       for (std::uint32_t e = rows.start[row]; e < rows.start[row + 1]; ++e)
         value += rows.value[e] * level.at(rows.column[e]);
       const std::uint32_t t = rows.target[row];
-      r[a] = level.b[t / n][t % n] - value;
+      r[a] = split(level.b, t) - value;
     }
     const double* inv = blocks.inverse.data() + blocks.inverse_start[b];
     for (int a = 0; a < m; ++a) {
@@ -298,10 +292,9 @@ void CorotatedMultigrid<Dim>::correct(int l) {
   const int coarsest = levels() - 1;
   if (l == coarsest) {
     const CorotatedRows& rows = m_rows[l];
-    const std::size_t n = level.size();
     Eigen::VectorXd rhs(static_cast<Eigen::Index>(rows.rows()));
     for (std::size_t m = 0; m < rows.rows(); ++m) {
-      double value = level.b[rows.target[m] / n][rows.target[m] % n] - rows.constant[m];
+      double value = level.split()(level.b, rows.target[m]) - rows.constant[m];
       for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e)
         if (rows.row_of[rows.column[e]] < 0) value -= rows.value[e] * level.at(rows.column[e]);
       rhs[static_cast<Eigen::Index>(m)] = value;
@@ -333,40 +326,35 @@ double CorotatedMultigrid<Dim>::quasi_linear_residual() {
   return corotated_residual(m_multigrid.level(0), m_rows[0]);
 }
 
-// The rows of the current rotations are built (and kept for the refresh) only when the next
-// cycle refreshes; otherwise each row is applied as it is built.
+// Matrix-free: each row is applied as it is built. When the next cycle refreshes, the rotations
+// are kept for it. (Building the rows here for that refresh cost a whole row build per call
+// whose x then moved before the refresh: a backward-Euler step's right-hand side and its last
+// residual, an Anderson cycle's rejected iterates.)
 template <int Dim>
 double CorotatedMultigrid<Dim>::nonlinear_residual() {
-  auto& finest = m_multigrid.level(0);
-  auto rotations = cell_rotations(finest);
-  if (m_cycles_since_refresh < m_options.rotation_update_every) {
-    m_fresh.reset();
-    return corotated_residual(finest, rotations, m_sigma, false, m_options.stress);
-  }
-  auto fresh = std::make_unique<FreshRows>();
-  fresh->rotations = std::move(rotations);
-  fresh->rows = build_corotated_rows(finest, fresh->rotations, m_sigma, false, m_options.stress);
-  const double residual = corotated_residual(finest, fresh->rows);
-  m_fresh = std::move(fresh);
+  const double residual = matrix_free_nonlinear_residual();
+  m_fresh_rotations = m_cycles_since_refresh >= m_options.rotation_update_every;
   return residual;
 }
 
-// Refreshes the rotations once k cycles have passed, reusing the rows of the last non-linear
+// Refreshes the rotations once k cycles have passed, reusing those of the last non-linear
 // residual when it left them; the cache is dropped either way (the next cycle moves x).
 template <int Dim>
 void CorotatedMultigrid<Dim>::refresh_rotations_when_due() {
   if (m_cycles_since_refresh >= m_options.rotation_update_every) {
-    if (m_fresh)
-      refresh_rotations(std::move(*m_fresh));
-    else
+    if (m_fresh_rotations) {
+      std::swap(m_rotations[0], m_scratch_rotations);  // the old ones: the next scratch
+      refresh_levels();
+    } else {
       refresh_rotations();
+    }
   }
-  m_fresh.reset();
+  m_fresh_rotations = false;
 }
 
 template <int Dim>
 double CorotatedMultigrid<Dim>::vcycle() {
-  m_fresh.reset();
+  m_fresh_rotations = false;
   return solve_cycle();
 }
 
@@ -420,7 +408,7 @@ double CorotatedMultigrid<Dim>::accelerated_cycle(AndersonMixing& anderson, doub
     scatter_unknowns(mixed);  // both rose: keep the smaller (the mixed one)
     residual = nonlinear_residual();
   }
-  // The non-linear residual (computed last) may have kept rows for the next refresh in m_fresh;
+  // The non-linear residual (computed last) may have kept rotations for the next refresh;
   // the quasi-linear residual only reads m_rows.
   quasi_linear = quasi_linear_residual();
   return residual;
@@ -431,17 +419,20 @@ template <int Dim>
 Eigen::VectorXd CorotatedMultigrid<Dim>::residual_vector() const {
   const CorotatedRows& rows = m_rows[0];
   const auto& level = m_multigrid.level(0);
-  const std::size_t n = level.size();
   Eigen::VectorXd r(static_cast<Eigen::Index>(rows.rows()));
   for (std::size_t m = 0; m < rows.rows(); ++m)
-    r[static_cast<Eigen::Index>(m)] = level.r[rows.target[m] / n][rows.target[m] % n];
+    r[static_cast<Eigen::Index>(m)] = level.split()(level.r, rows.target[m]);
   return r;
 }
 
+// The rotations of x into m_scratch_rotations (no longer those of an earlier x).
 template <int Dim>
 double CorotatedMultigrid<Dim>::matrix_free_nonlinear_residual() {
   auto& finest = m_multigrid.level(0);
-  return corotated_residual(finest, cell_rotations(finest), m_sigma, false, m_options.stress);
+  cell_rotations(finest, m_scratch_rotations);
+  m_fresh_rotations = false;
+  return corotated_residual(finest, m_scratch_rotations, m_sigma, false, m_options.stress,
+                            &m_residual_scratch);
 }
 
 // z = B v, B = one frozen V-cycle: the cycle from x after shifting b so that the frozen
@@ -453,19 +444,17 @@ Eigen::VectorXd CorotatedMultigrid<Dim>::frozen_cycle_direction(const Eigen::Vec
                                                                 const Eigen::VectorXd* v) {
   auto& level = m_multigrid.level(0);
   const CorotatedRows& rows = m_rows[0];
-  const std::size_t n = level.size();
   std::vector<double> saved;
   if (v)
     for (std::size_t m = 0; m < rows.rows(); ++m) {
-      double& b = level.b[rows.target[m] / n][rows.target[m] % n];
+      double& b = level.split()(level.b, rows.target[m]);
       saved.push_back(b);
       b += (*v)[static_cast<Eigen::Index>(m)] - r0[static_cast<Eigen::Index>(m)];
     }
   correct(0);
   Eigen::VectorXd z = gather_unknowns() - x;
   if (v)
-    for (std::size_t m = 0; m < rows.rows(); ++m)
-      level.b[rows.target[m] / n][rows.target[m] % n] = saved[m];
+    for (std::size_t m = 0; m < rows.rows(); ++m) level.split()(level.b, rows.target[m]) = saved[m];
   scatter_unknowns(x);
   return z;
 }
@@ -598,16 +587,12 @@ void CorotatedMultigrid<Dim>::restore_carried_state(const CorotatedCarriedState<
       throw Error("co-rotated state: a recycled correction has " + std::to_string(z.size()) +
                   " entries, the hierarchy " + std::to_string(unknowns) + " unknowns");
   set_traction_scale(1.0);  // as saved between solves (a cancelled load step may have left less)
-  FreshRows fresh;
-  fresh.rotations.resize(cells);
   for (std::size_t c = 0; c < cells; ++c)
-    fresh.rotations[c] = Eigen::Map<const Matrix<Dim>>(state.rotations.data() + c * Dim * Dim);
-  fresh.rows =
-      build_corotated_rows(m_multigrid.level(0), fresh.rotations, m_sigma, false, m_options.stress);
-  refresh_rotations(std::move(fresh));
+    m_rotations[0][c] = Eigen::Map<const Matrix<Dim>>(state.rotations.data() + c * Dim * Dim);
+  refresh_levels();
   m_cycles_since_refresh = state.cycles_since_refresh;
   m_recycled.assign(state.recycled.begin(), state.recycled.end());
-  m_fresh.reset();
+  m_fresh_rotations = false;
   m_equilibrium = current_load();
 }
 

@@ -169,7 +169,6 @@ class CorotatedMultigrid {
   struct Blocks;
   struct CoarseFactor;
   struct Interior;
-  struct FreshRows;
   // A quasistatic load: finest right-hand side, Dirichlet values (at m_dirichlet), traction scale.
   struct Load {
     std::array<FieldArray<double>, Dim + 1> b;
@@ -184,8 +183,7 @@ class CorotatedMultigrid {
   enum class Attempt { CONVERGED, STALLED, DIVERGED };
   Attempt solve_increment(double initial, double target, int max_cycles, CorotatedReport& report);
   void build_level_system(int l);
-  void build_level_system(int l, CorotatedRows rows);
-  void refresh_rotations(FreshRows fresh);
+  void refresh_levels();
   void refresh_rotations_when_due();
   // One cycle of solve(): refreshes with the rows of the last non-linear residual when due.
   double solve_cycle();
@@ -216,9 +214,12 @@ class CorotatedMultigrid {
   std::vector<std::unique_ptr<Blocks>> m_blocks;
   std::vector<std::unique_ptr<Interior>> m_interior;  // DISTRIBUTIVE only
   std::unique_ptr<CoarseFactor> m_coarse;
-  // Rotations and finest rows of the displacement at the last non-linear residual of solve();
-  // a due refresh reuses them instead of rebuilding the same rows.
-  std::unique_ptr<FreshRows> m_fresh;
+  // Rotations of the last non-linear residual's x (storage kept between calls); when the next
+  // cycle refreshes they are fresh (m_fresh_rotations) and the refresh takes them over (dropped
+  // by whatever moves x in between).
+  std::vector<Matrix<Dim>> m_scratch_rotations;
+  bool m_fresh_rotations = false;
+  CorotatedResidualScratch<Dim> m_residual_scratch;  // of the finest level
   int m_cycles_since_refresh = 0;
   std::deque<Eigen::VectorXd> m_recycled;  // last Newton corrections (NEWTON_KRYLOV)
 };

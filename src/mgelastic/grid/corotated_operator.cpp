@@ -376,13 +376,12 @@ class RowCompressor {
 // Interior variables in lattice order, all variables of one location together (a front-like
 // Gauss-Seidel order for the box smoother).
 template <int Dim>
-std::vector<std::uint32_t> row_targets(const Level<Dim, double>& level) {
-  std::vector<std::uint32_t> targets;
+void row_targets(const Level<Dim, double>& level, std::vector<std::uint32_t>& targets) {
+  targets.clear();
   const auto n = static_cast<std::ptrdiff_t>(level.size());
   for (std::ptrdiff_t k = 0; k < n; ++k)
     for (int field = 0; field <= Dim; ++field)
       if (level.kind(field, k) == VarKind::INTERIOR) targets.push_back(level.global(field, k));
-  return targets;
 }
 
 template <int Dim, typename Sink>
@@ -405,59 +404,66 @@ double CorotatedRows::coefficient(std::size_t row, std::uint32_t variable) const
 }
 
 template <int Dim>
-CorotatedRows build_corotated_rows(const Level<Dim, double>& level,
-                                   const std::vector<Matrix<Dim>>& rotations,
-                                   const BoundaryStress<Dim>& sigma, bool homogeneous,
-                                   CorotatedStress form) {
+void build_corotated_rows(const Level<Dim, double>& level,
+                          const std::vector<Matrix<Dim>>& rotations,
+                          const BoundaryStress<Dim>& sigma, bool homogeneous, CorotatedStress form,
+                          CorotatedRows& rows) {
   const CorotatedRowBuilder<Dim> builder(level, rotations, sigma, homogeneous, form);
   const std::size_t n = level.size();
-  CorotatedRows rows;
-  rows.target = row_targets(level);
+  // Every array is refilled in place: a refresh rebuilds the rows of every level, and fresh
+  // storage cost more in page faults than the build itself.
+  row_targets(level, rows.target);
   rows.row_of.assign((Dim + 1) * n, -1);
   const auto count = static_cast<std::ptrdiff_t>(rows.target.size());
   for (std::ptrdiff_t m = 0; m < count; ++m)
     rows.row_of[rows.target[m]] = static_cast<std::int32_t>(m);
   rows.constant.resize(count);
-  // Rows are independent: each thread builds a contiguous range into its own arrays, which are
-  // then joined in row order (the result does not depend on the thread count).
-  std::vector<std::vector<std::uint32_t>> columns, lengths;
-  std::vector<std::vector<double>> values;
+  rows.start.resize(count + 1);
+  rows.start[0] = 0;
+  // Rows are independent: each thread builds a contiguous range into its own arrays (kept
+  // between builds), which are then copied in row order to their offsets (the result does not
+  // depend on the thread count).
+  std::vector<std::size_t> offset;
 #pragma omp parallel
   {
-#pragma omp single
-    {
-      columns.resize(omp_get_num_threads());
-      values.resize(columns.size());
-      lengths.resize(columns.size());
-    }
     const int thread = omp_get_thread_num(), threads = omp_get_num_threads();
+#pragma omp single
+    offset.assign(threads + 1, 0);
     const std::ptrdiff_t first = count * thread / threads, last = count * (thread + 1) / threads;
     thread_local RowCompressor compressor;
     thread_local Row row;
-    columns[thread].reserve(static_cast<std::size_t>(last - first) * 64);
-    values[thread].reserve(static_cast<std::size_t>(last - first) * 64);
+    thread_local std::vector<std::uint32_t> columns;
+    thread_local std::vector<double> values;
+    columns.clear();
+    values.clear();
     for (std::ptrdiff_t m = first; m < last; ++m) {
       build_row(builder, rows.target[m], n, row);
-      const std::size_t before = columns[thread].size();
-      compressor.compress(row, columns[thread], values[thread]);
-      lengths[thread].push_back(static_cast<std::uint32_t>(columns[thread].size() - before));
+      compressor.compress(row, columns, values);
+      rows.start[m + 1] = static_cast<std::uint32_t>(columns.size());  // thread-local for now
       rows.constant[m] = row.constant;
     }
+    offset[thread + 1] = columns.size();
+#pragma omp barrier
+#pragma omp single
+    {
+      for (int t = 0; t < threads; ++t) offset[t + 1] += offset[t];
+      rows.column.resize(offset[threads]);
+      rows.value.resize(offset[threads]);
+    }
+    const auto shift = static_cast<std::uint32_t>(offset[thread]);
+    for (std::ptrdiff_t m = first; m < last; ++m) rows.start[m + 1] += shift;
+    std::copy(columns.begin(), columns.end(), rows.column.begin() + offset[thread]);
+    std::copy(values.begin(), values.end(), rows.value.begin() + offset[thread]);
   }
-  rows.start.reserve(count + 1);
-  for (const auto& part : lengths)
-    for (std::uint32_t length : part) rows.start.push_back(rows.start.back() + length);
-  if (columns.size() == 1) {
-    rows.column = std::move(columns.front());
-    rows.value = std::move(values.front());
-    return rows;
-  }
-  rows.column.reserve(rows.start.back());
-  rows.value.reserve(rows.start.back());
-  for (std::size_t t = 0; t < columns.size(); ++t) {
-    rows.column.insert(rows.column.end(), columns[t].begin(), columns[t].end());
-    rows.value.insert(rows.value.end(), values[t].begin(), values[t].end());
-  }
+}
+
+template <int Dim>
+CorotatedRows build_corotated_rows(const Level<Dim, double>& level,
+                                   const std::vector<Matrix<Dim>>& rotations,
+                                   const BoundaryStress<Dim>& sigma, bool homogeneous,
+                                   CorotatedStress form) {
+  CorotatedRows rows;
+  build_corotated_rows(level, rotations, sigma, homogeneous, form, rows);
   return rows;
 }
 
@@ -465,15 +471,22 @@ CorotatedRows build_corotated_rows(const Level<Dim, double>& level,
 // at the locations next to an interior face: P_ii at cells, P_ij at (i, j) edges.
 template <int Dim>
 double corotated_residual(Level<Dim, double>& level, const std::vector<Matrix<Dim>>& rotations,
-                          const BoundaryStress<Dim>& sigma, bool homogeneous,
-                          CorotatedStress form) {
+                          const BoundaryStress<Dim>& sigma, bool homogeneous, CorotatedStress form,
+                          CorotatedResidualScratch<Dim>* scratch) {
   const CorotatedRowBuilder<Dim> builder(level, rotations, sigma, homogeneous, form);
   const auto& lat = level.lattice;
   const auto n = static_cast<std::ptrdiff_t>(level.size());
   const double inv_h = 1.0 / lat.h;
   auto interior = [&](int i, std::ptrdiff_t k) { return level.kind(i, k) == VarKind::INTERIOR; };
-  std::array<std::vector<double>, Dim * Dim> stress;  // [i * Dim + j][location]
-  for (auto& field : stress) field.assign(n, 0.0);
+  CorotatedResidualScratch<Dim> local;
+  if (!scratch) scratch = &local;
+  // [i * Dim + j][location]: written at the same locations on every call (the level's kinds),
+  // zero elsewhere since their allocation.
+  auto& stress = scratch->stress;
+  if (stress[0].size() != static_cast<std::size_t>(n)) {
+    for (auto& field : stress) allocate_zeroed(field, static_cast<std::size_t>(n));
+    row_targets(level, scratch->targets);
+  }
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t k = 0; k < n; ++k)
     for (int i = 0; i < Dim; ++i) {
@@ -488,7 +501,7 @@ double corotated_residual(Level<Dim, double>& level, const std::vector<Matrix<Di
     }
   ensure_residual_storage(level);
   for (auto& field : level.r) zero_live(field, level.live);
-  const std::vector<std::uint32_t> targets = row_targets(level);
+  const std::vector<std::uint32_t>& targets = scratch->targets;
   const auto count = static_cast<std::ptrdiff_t>(targets.size());
   const auto size = static_cast<std::size_t>(n);
 #pragma omp parallel
@@ -541,16 +554,16 @@ double corotated_residual(Level<Dim, double>& level, const CorotatedRows& rows) 
   ensure_residual_storage(level);
   for (auto& field : level.r) zero_live(field, level.live);
   const auto count = static_cast<std::ptrdiff_t>(rows.rows());
-  const std::size_t n = level.size();
+  const GlobalSplit<Dim> split = level.split();
   double sum = 0.0;
   for (std::ptrdiff_t m = 0; m < count; ++m) {
     double value = rows.constant[m];
     for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e)
       value += rows.value[e] * level.at(rows.column[e]);
     const std::uint32_t t = rows.target[m];
-    const double r = level.b[t / n][t % n] - value;
-    level.r[t / n][t % n] = r;
-    if (t / n < static_cast<std::size_t>(Dim) || level.lambda > 0) sum += r * r;
+    const double r = split(level.b, t) - value;
+    split(level.r, t) = r;
+    if (split.field(t) < Dim || level.lambda > 0) sum += r * r;
   }
   return std::sqrt(sum);
 }
@@ -618,7 +631,11 @@ void corotated_back_substitute(Level<Dim, double>& level, const std::vector<Matr
       const Level<D, double>&, const std::vector<Matrix<D>>&, const BoundaryStress<D>&, int, int,  \
       std::ptrdiff_t, CorotatedStress);                                                            \
   template double corotated_residual<D>(Level<D, double>&, const std::vector<Matrix<D>>&,          \
-                                        const BoundaryStress<D>&, bool, CorotatedStress);          \
+                                        const BoundaryStress<D>&, bool, CorotatedStress,           \
+                                        CorotatedResidualScratch<D>*);                             \
+  template void build_corotated_rows<D>(const Level<D, double>&, const std::vector<Matrix<D>>&,    \
+                                        const BoundaryStress<D>&, bool, CorotatedStress,           \
+                                        CorotatedRows&);                                           \
   template void corotated_back_substitute<D>(Level<D, double>&, const std::vector<Matrix<D>>&,     \
                                              const BoundaryStress<D>&, bool);
 MGELASTIC_INSTANTIATE(2)

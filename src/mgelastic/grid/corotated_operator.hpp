@@ -22,6 +22,7 @@
 // a box (Vanka) smoother on these rows, not the distributive/band split of the linear engine.
 // "homogeneous" rows (coarse levels: correction equations) drop every constant (tractions,
 // 2 mu (I - R), mu (d - tr R)). At lambda = 0 the pressure row is p = 0.
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -59,17 +60,34 @@ CorotatedRows build_corotated_rows(const Level<Dim, double>& level,
                                    const BoundaryStress<Dim>& sigma, bool homogeneous,
                                    CorotatedStress form = CorotatedStress::SYMMETRIZED);
 
+// The same into `rows`, reusing its storage (a refresh rebuilds every level's rows).
+template <int Dim>
+void build_corotated_rows(const Level<Dim, double>& level,
+                          const std::vector<Matrix<Dim>>& rotations,
+                          const BoundaryStress<Dim>& sigma, bool homogeneous, CorotatedStress form,
+                          CorotatedRows& rows);
+
 // r = b - constant - row . x at every row's variable (0 elsewhere) into level.r; returns the
 // 2-norm over all rows (pressure rows only when lambda > 0).
 template <int Dim>
 double corotated_residual(Level<Dim, double>& level, const CorotatedRows& rows);
+
+// What the matrix-free residual below keeps between calls on one level (pass the same scratch
+// only with the same level): the stresses at every location (Dim^2 arrays over the lattice,
+// written at the same locations on every call) and the rows' targets.
+template <int Dim>
+struct CorotatedResidualScratch {
+  std::array<FieldArray<double>, Dim * Dim> stress;
+  std::vector<std::uint32_t> targets;
+};
 
 // The same residual for the rows build_corotated_rows(level, rotations, ...) would give, each
 // row applied as it is built (no stored rows: the non-linear residual between refreshes).
 template <int Dim>
 double corotated_residual(Level<Dim, double>& level, const std::vector<Matrix<Dim>>& rotations,
                           const BoundaryStress<Dim>& sigma, bool homogeneous,
-                          CorotatedStress form = CorotatedStress::SYMMETRIZED);
+                          CorotatedStress form = CorotatedStress::SYMMETRIZED,
+                          CorotatedResidualScratch<Dim>* scratch = nullptr);
 
 // The stress the momentum rows of `rotations` (non-homogeneous) add at one location for the
 // level's current x: P_ii at cell `location` (j == i) or P_ij at the (i, j) edge `location`.

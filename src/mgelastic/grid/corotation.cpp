@@ -46,13 +46,19 @@ Matrix<Dim> cell_deformation_gradient(const Level<Dim, Scalar>& level, std::ptrd
 }
 
 template <int Dim, typename Scalar>
-std::vector<Matrix<Dim>> cell_rotations(const Level<Dim, Scalar>& level) {
-  std::vector<Matrix<Dim>> rotations(level.size(), Matrix<Dim>::Identity());
+void cell_rotations(const Level<Dim, Scalar>& level, std::vector<Matrix<Dim>>& rotations) {
+  if (rotations.size() != level.size()) rotations.assign(level.size(), Matrix<Dim>::Identity());
   const auto n = static_cast<std::ptrdiff_t>(level.size());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t k = 0; k < n; ++k)
     if (level.cells[k] == CellType::INTERIOR)
       rotations[k] = polar_rotation<Dim>(cell_deformation_gradient(level, k));
+}
+
+template <int Dim, typename Scalar>
+std::vector<Matrix<Dim>> cell_rotations(const Level<Dim, Scalar>& level) {
+  std::vector<Matrix<Dim>> rotations;
+  cell_rotations(level, rotations);
   return rotations;
 }
 
@@ -83,7 +89,8 @@ std::vector<Matrix<Dim>> restrict_rotations(const Lattice<Dim>& fine,
 
 #define MGELASTIC_INSTANTIATE(D, S)                                                       \
   template Matrix<D> cell_deformation_gradient<D, S>(const Level<D, S>&, std::ptrdiff_t); \
-  template std::vector<Matrix<D>> cell_rotations<D, S>(const Level<D, S>&);
+  template std::vector<Matrix<D>> cell_rotations<D, S>(const Level<D, S>&);               \
+  template void cell_rotations<D, S>(const Level<D, S>&, std::vector<Matrix<D>>&);
 MGELASTIC_INSTANTIATE(2, float)
 MGELASTIC_INSTANTIATE(2, double)
 MGELASTIC_INSTANTIATE(3, float)

@@ -31,6 +31,11 @@ Matrix<Dim> cell_deformation_gradient(const Level<Dim, Scalar>& level, std::ptrd
 // One rotation per lattice point: the polar rotation at interior cells, identity elsewhere.
 template <int Dim, typename Scalar>
 std::vector<Matrix<Dim>> cell_rotations(const Level<Dim, Scalar>& level);
+// The same into `rotations`, reusing its storage: only the interior cells are written, so one
+// of another size is first filled with the identity, and one of the level's size must hold the
+// identity at every other cell (as every earlier result for this level does).
+template <int Dim, typename Scalar>
+void cell_rotations(const Level<Dim, Scalar>& level, std::vector<Matrix<Dim>>& rotations);
 
 // Rotation field of the next coarser level (2^d-to-1 cells, coarsening.hpp): the polar rotation
 // of the mean of the fine children's rotations that are interior on the fine level.
