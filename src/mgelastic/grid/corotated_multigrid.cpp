@@ -21,9 +21,16 @@ namespace mgelastic::grid {
 
 // Box-smoother blocks of one level: per interior cell, the rows of its interior faces and its
 // pressure, with the inverse of their diagonal block (row-major).
+//
+// The sweeps run in parallel over colored zones (block_partition.hpp's scheme: rectangular zones
+// of cells, 2^d colors by the parity of the zone index along every axis): zones of one color are
+// a whole zone apart, wider along every axis than the rows reach (row_reach), so their blocks
+// are relaxed concurrently, each zone's in lattice order. The order is fixed, so results do not
+// depend on the thread count.
 template <int Dim>
 struct CorotatedMultigrid<Dim>::Blocks {
   std::vector<std::uint32_t> start{0}, rows;
+  std::vector<std::ptrdiff_t> cell;  // the interior cell of each block
   std::vector<std::size_t> inverse_start{0};
   std::vector<double> inverse;
   // Blocks holding a Fig. 8 relocated-boundary variable (Level::pre_restriction_rows and
@@ -31,9 +38,14 @@ struct CorotatedMultigrid<Dim>::Blocks {
   std::vector<std::uint32_t> relocated;
   // Blocks holding a row the linear level relaxes in its band (DISTRIBUTIVE smoother only).
   std::vector<std::uint32_t> band;
+  // ALL, BAND and RELOCATED (BlockSet order): per color, per zone, the set's blocks in order.
+  using Schedule = std::array<std::vector<std::vector<std::uint32_t>>, (1 << Dim)>;
+  std::array<Schedule, 3> schedule;
   void clear() {
     start.assign(1, 0);
     rows.clear();
+    cell.clear();
+    schedule = {};
     inverse_start.assign(1, 0);
     inverse.clear();
     relocated.clear();
@@ -65,7 +77,8 @@ std::string scientific(double value) {
 template <int Dim>
 void build_blocks(const Level<Dim, double>& level, const CorotatedRows& rows,
                   std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& block_rows,
-                  std::vector<std::size_t>& inverse_start, std::vector<double>& inverse) {
+                  std::vector<std::ptrdiff_t>& block_cells, std::vector<std::size_t>& inverse_start,
+                  std::vector<double>& inverse) {
   const auto n = static_cast<std::ptrdiff_t>(level.size());
   for (std::ptrdiff_t c = 0; c < n; ++c) {
     if (level.cells[c] != CellType::INTERIOR) continue;
@@ -91,10 +104,68 @@ void build_blocks(const Level<Dim, double>& level, const CorotatedRows& rows,
       for (int r = 0; r < m; ++r) inv(r, r) = a(r, r) != 0 ? 1.0 / a(r, r) : 0.0;
     block_rows.insert(block_rows.end(), members.begin(), members.end());
     start.push_back(static_cast<std::uint32_t>(block_rows.size()));
+    block_cells.push_back(c);
     for (int r = 0; r < m; ++r)
       for (int s = 0; s < m; ++s) inverse.push_back(inv(r, s));
     inverse_start.push_back(inverse.size());
   }
+}
+
+// The largest coordinate difference along each axis between a row's variable and its columns.
+template <int Dim>
+IVec<Dim> row_reach(const Level<Dim, double>& level, const CorotatedRows& rows) {
+  const GlobalSplit<Dim> split = level.split();
+  const auto location = [&](std::uint32_t global) {
+    return level.lattice.coords(
+        static_cast<std::ptrdiff_t>(split.index(global, split.field(global))));
+  };
+  IVec<Dim> reach = IVec<Dim>::Zero();
+  for (std::size_t m = 0; m < rows.rows(); ++m) {
+    const IVec<Dim> self = location(rows.target[m]);
+    for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e)
+      reach = reach.cwiseMax((location(rows.column[e]) - self).cwiseAbs());
+  }
+  return reach;
+}
+
+// Zones of 16 x 8 (x 8) cells (many per color for the threads, long enough along x for the
+// rows' streams), wider than the rows reach.
+template <int Dim>
+IVec<Dim> zone_size(const IVec<Dim>& reach) {
+  IVec<Dim> size = IVec<Dim>::Constant(8);
+  size[0] = 16;
+  return size.cwiseMax(reach + IVec<Dim>::Ones());
+}
+
+// The blocks `members` (all blocks when null) grouped by colored zone, in order.
+template <int Dim, typename Schedule>
+Schedule zone_schedule(const Lattice<Dim>& lattice, const std::vector<std::ptrdiff_t>& block_cells,
+                       const std::vector<std::uint32_t>* members, const IVec<Dim>& zone) {
+  IVec<Dim> zones;
+  for (int a = 0; a < Dim; ++a) zones[a] = (lattice.cells[a] + zone[a] - 1) / zone[a];
+  std::vector<std::vector<std::uint32_t>> by_zone(static_cast<std::size_t>(zones.prod()));
+  const auto add = [&](std::uint32_t b) {
+    const IVec<Dim> s = lattice.coords(block_cells[b]);
+    std::size_t id = 0;
+    for (int a = Dim - 1; a >= 0; --a) id = id * zones[a] + (s[a] - 1) / zone[a];
+    by_zone[id].push_back(b);
+  };
+  if (members)
+    for (std::uint32_t b : *members) add(b);
+  else
+    for (std::uint32_t b = 0; b < block_cells.size(); ++b) add(b);
+  Schedule schedule;
+  for (std::size_t id = 0; id < by_zone.size(); ++id) {
+    if (by_zone[id].empty()) continue;
+    int color = 0;
+    std::size_t rest = id;
+    for (int a = 0; a < Dim; ++a) {
+      color |= static_cast<int>((rest % zones[a]) & 1) << a;
+      rest /= zones[a];
+    }
+    schedule[color].push_back(std::move(by_zone[id]));
+  }
+  return schedule;
 }
 
 }  // namespace
@@ -113,6 +184,7 @@ CorotatedMultigrid<Dim>::CorotatedMultigrid(const ElasticityProblem<Dim>& proble
   m_rotations.resize(levels());
   m_rows.resize(levels());
   m_blocks.resize(levels());
+  m_zone_size.assign(levels(), IVec<Dim>::Zero());
   m_interior.resize(levels());
   const auto& finest = m_multigrid.level(0);
   for (int f = 0; f < Dim; ++f)
@@ -194,8 +266,9 @@ void CorotatedMultigrid<Dim>::build_level_system(int l) {
   if (!m_blocks[l]) m_blocks[l] = std::make_unique<Blocks>();
   Blocks* blocks = m_blocks[l].get();
   blocks->clear();
-  build_blocks(level, m_rows[l], blocks->start, blocks->rows, blocks->inverse_start,
+  build_blocks(level, m_rows[l], blocks->start, blocks->rows, blocks->cell, blocks->inverse_start,
                blocks->inverse);
+  if (m_zone_size[l] == IVec<Dim>::Zero()) m_zone_size[l] = zone_size(row_reach(level, m_rows[l]));
   std::vector<std::uint8_t> marked(m_rows[l].rows(), 0);
   for (const auto* set : {&level.pre_restriction_rows, &level.post_prolongation_rows})
     for (std::uint32_t m : *set) {
@@ -220,6 +293,13 @@ void CorotatedMultigrid<Dim>::build_level_system(int l) {
       }
     m_interior[l] = std::make_unique<Interior>(Interior{{level, m_rows[l]}, {level, m_rows[l]}});
   }
+  using Schedule = typename Blocks::Schedule;
+  const IVec<Dim>& zone = m_zone_size[l];
+  const auto& cells = blocks->cell;
+  blocks->schedule[0] = zone_schedule<Dim, Schedule>(level.lattice, cells, nullptr, zone);
+  blocks->schedule[1] = zone_schedule<Dim, Schedule>(level.lattice, cells, &blocks->band, zone);
+  blocks->schedule[2] =
+      zone_schedule<Dim, Schedule>(level.lattice, cells, &blocks->relocated, zone);
 }
 
 template <int Dim>
@@ -233,16 +313,10 @@ void CorotatedMultigrid<Dim>::box_sweep(int l, bool forward, BlockSet set) {
   const CorotatedRows& rows = m_rows[l];
   const Blocks& blocks = *m_blocks[l];
   const GlobalSplit<Dim> split = level.split();
-  const std::vector<std::uint32_t>* subset = set == BlockSet::BAND        ? &blocks.band
-                                             : set == BlockSet::RELOCATED ? &blocks.relocated
-                                                                          : nullptr;
-  const auto count = subset ? static_cast<std::ptrdiff_t>(subset->size())
-                            : static_cast<std::ptrdiff_t>(blocks.start.size()) - 1;
-  constexpr int kMax = 2 * Dim + 1;
-  std::array<double, kMax> r{}, delta{};
-  for (std::ptrdiff_t step = 0; step < count; ++step) {
-    const std::ptrdiff_t position = forward ? step : count - 1 - step;
-    const std::ptrdiff_t b = subset ? (*subset)[position] : position;
+  const double weight = m_options.block_weight;
+  const auto relax = [&](std::uint32_t b) {
+    constexpr int kMax = 2 * Dim + 1;
+    std::array<double, kMax> r{}, delta{};
     const std::uint32_t first = blocks.start[b];
     const int m = static_cast<int>(blocks.start[b + 1] - first);
     for (int a = 0; a < m; ++a) {
@@ -250,16 +324,29 @@ void CorotatedMultigrid<Dim>::box_sweep(int l, bool forward, BlockSet set) {
       double value = rows.constant[row];
       for (std::uint32_t e = rows.start[row]; e < rows.start[row + 1]; ++e)
         value += rows.value[e] * level.at(rows.column[e]);
-      const std::uint32_t t = rows.target[row];
-      r[a] = split(level.b, t) - value;
+      r[a] = split(level.b, rows.target[row]) - value;
     }
     const double* inv = blocks.inverse.data() + blocks.inverse_start[b];
     for (int a = 0; a < m; ++a) {
       delta[a] = 0;
       for (int c = 0; c < m; ++c) delta[a] += inv[a * m + c] * r[c];
     }
-    for (int a = 0; a < m; ++a)
-      level.at(rows.target[blocks.rows[first + a]]) += m_options.block_weight * delta[a];
+    for (int a = 0; a < m; ++a) level.at(rows.target[blocks.rows[first + a]]) += weight * delta[a];
+  };
+  // Forward: colors, and each zone's blocks, in order; backward: both reversed.
+  const typename Blocks::Schedule& schedule = blocks.schedule[static_cast<int>(set)];
+  constexpr int kColors = 1 << Dim;
+  for (int step = 0; step < kColors; ++step) {
+    const auto& zones = schedule[forward ? step : kColors - 1 - step];
+    const auto count = static_cast<std::ptrdiff_t>(zones.size());
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::ptrdiff_t z = 0; z < count; ++z) {
+      const std::vector<std::uint32_t>& members = zones[z];
+      if (forward)
+        for (std::uint32_t b : members) relax(b);
+      else
+        for (auto b = members.rbegin(); b != members.rend(); ++b) relax(*b);
+    }
   }
 }
 

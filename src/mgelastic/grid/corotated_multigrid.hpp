@@ -212,6 +212,7 @@ class CorotatedMultigrid {
   std::vector<std::vector<Matrix<Dim>>> m_rotations;
   std::vector<CorotatedRows> m_rows;
   std::vector<std::unique_ptr<Blocks>> m_blocks;
+  std::vector<IVec<Dim>> m_zone_size;  // per level: the box sweeps' colored zones (0 until built)
   std::vector<std::unique_ptr<Interior>> m_interior;  // DISTRIBUTIVE only
   std::unique_ptr<CoarseFactor> m_coarse;
   // Rotations of the last non-linear residual's x (storage kept between calls); when the next
