@@ -112,18 +112,43 @@ void build_blocks(const Level<Dim, double>& level, const CorotatedRows& rows,
 }
 
 // The largest coordinate difference along each axis between a row's variable and its columns.
+// A column's offset is split by the strides from the top axis down (rounded to the nearest
+// multiple, no division), checked against the flat index and the lattice rows, and only where
+// that fails (offsets longer than half a stride: tiny lattices) taken from the coordinates.
 template <int Dim>
 IVec<Dim> row_reach(const Level<Dim, double>& level, const CorotatedRows& rows) {
+  const Lattice<Dim>& lattice = level.lattice;
   const GlobalSplit<Dim> split = level.split();
-  const auto location = [&](std::uint32_t global) {
-    return level.lattice.coords(
-        static_cast<std::ptrdiff_t>(split.index(global, split.field(global))));
+  const auto index = [&](std::uint32_t global) {
+    return static_cast<std::ptrdiff_t>(split.index(global, split.field(global)));
+  };
+  const auto offset_coords = [&](std::ptrdiff_t d) {
+    IVec<Dim> c;
+    for (int a = Dim - 1; a >= 1; --a) {
+      const std::ptrdiff_t stride = lattice.stride(a);
+      std::ptrdiff_t q = 0;
+      while (d - q * stride > stride / 2) ++q;
+      while (d - q * stride < -(stride / 2)) --q;
+      c[a] = static_cast<int>(q);
+      d -= q * stride;
+    }
+    c[0] = static_cast<int>(d);
+    return c;
   };
   IVec<Dim> reach = IVec<Dim>::Zero();
   for (std::size_t m = 0; m < rows.rows(); ++m) {
-    const IVec<Dim> self = location(rows.target[m]);
-    for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e)
-      reach = reach.cwiseMax((location(rows.column[e]) - self).cwiseAbs());
+    const std::ptrdiff_t self = index(rows.target[m]);
+    const IVec<Dim> at = lattice.coords(self);
+    for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e) {
+      const std::ptrdiff_t k = index(rows.column[e]);
+      IVec<Dim> c = offset_coords(k - self);
+      bool exact = lattice.index(at + c) == k;
+      for (int a = 0; a + 1 < Dim; ++a)  // no wrap around a lattice row or plane
+        exact =
+            exact && at[a] + c[a] >= 0 && at[a] + c[a] < lattice.stride(a + 1) / lattice.stride(a);
+      if (!exact) c = lattice.coords(k) - at;
+      reach = reach.cwiseMax(c.cwiseAbs());
+    }
   }
   return reach;
 }
