@@ -12,8 +12,8 @@
 // DISTRIBUTIVE = the paper's split: a band pass (CorotatedBand: SCHUR = Gauss-Seidel on the
 // band's Schur complement with edge-averaged pressures, corotated_band_smoother.hpp, or BOX =
 // box sweeps over the band's cells), the distributive sweep with the generalized distribution
-// (15) over the interior (corotated_distributive_smoother.hpp), the band again; both
-// multithreaded except the box band. Both smoothers add `relocation_sweeps` box sweeps over the
+// (15) over the interior (corotated_distributive_smoother.hpp), the band again; all of them
+// multithreaded (box sweeps over colored zones). Both smoothers add `relocation_sweeps` box sweeps over the
 // blocks of the Fig. 8 relocated-boundary sets and back-substitute the traction variables with
 // the co-rotated stress after each smoothing step.
 //
@@ -51,7 +51,7 @@ enum class CorotatedOuter { PICARD, NEWTON_KRYLOV };
 // Band of the DISTRIBUTIVE smoother. SCHUR: Gauss-Seidel on the band's Schur complement with
 // edge-averaged pressures (Sec. 5.3 / 7, corotated_band_smoother.hpp), multithreaded, as many
 // sweeps per pass as the linear engine (MultigridOptions::boundary_sweeps: 2 / 3 / 4 by nu).
-// BOX: `band_sweeps` box (Vanka) sweeps over the band's cells, one thread.
+// BOX: `band_sweeps` box (Vanka) sweeps over the band's cells.
 enum class CorotatedBand { SCHUR, BOX };
 
 struct CorotatedOptions {
