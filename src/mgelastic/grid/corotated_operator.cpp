@@ -6,7 +6,9 @@
 #include <cmath>
 #include <optional>
 #include <stdexcept>
+#include <string>
 
+#include "mgelastic/core/error.hpp"
 #include "mgelastic/grid/residual.hpp"
 
 namespace mgelastic::grid {
@@ -403,6 +405,31 @@ double CorotatedRows::coefficient(std::size_t row, std::uint32_t variable) const
   return 0.0;
 }
 
+namespace {
+
+// One row built and compressed, per thread (kept between rows and builds). Reached through
+// of_this_thread() inside the loops: a function-scope thread_local named in an OpenMP loop was
+// the encountering thread's instance for every thread (a race on the compressor's table).
+template <int Dim>
+struct RowScratch {
+  RowCompressor compressor;
+  Row row;
+  std::vector<std::uint32_t> columns;
+  std::vector<double> values;
+  static RowScratch& of_this_thread() {
+    thread_local RowScratch scratch;
+    return scratch;
+  }
+  void build(const CorotatedRowBuilder<Dim>& builder, std::uint32_t target, std::size_t n) {
+    build_row(builder, target, n, row);
+    columns.clear();
+    values.clear();
+    compressor.compress(row, columns, values);
+  }
+};
+
+}  // namespace
+
 template <int Dim>
 void build_corotated_rows(const Level<Dim, double>& level,
                           const std::vector<Matrix<Dim>>& rotations,
@@ -418,45 +445,53 @@ void build_corotated_rows(const Level<Dim, double>& level,
   for (std::ptrdiff_t m = 0; m < count; ++m)
     rows.row_of[rows.target[m]] = static_cast<std::int32_t>(m);
   rows.constant.resize(count);
-  rows.start.resize(count + 1);
-  rows.start[0] = 0;
-  // Rows are independent: each thread builds a contiguous range into its own arrays (kept
-  // between builds), which are then copied in row order to their offsets (the result does not
-  // depend on the thread count).
-  std::vector<std::size_t> offset;
-#pragma omp parallel
-  {
-    const int thread = omp_get_thread_num(), threads = omp_get_num_threads();
-#pragma omp single
-    offset.assign(threads + 1, 0);
-    const std::ptrdiff_t first = count * thread / threads, last = count * (thread + 1) / threads;
-    thread_local RowCompressor compressor;
-    thread_local Row row;
-    thread_local std::vector<std::uint32_t> columns;
-    thread_local std::vector<double> values;
-    columns.clear();
-    values.clear();
-    // ~60 entries per row: grown by doubling, a first build's buffers were copied ~5 times.
-    columns.reserve(static_cast<std::size_t>(last - first) * 64);
-    values.reserve(static_cast<std::size_t>(last - first) * 64);
-    for (std::ptrdiff_t m = first; m < last; ++m) {
-      build_row(builder, rows.target[m], n, row);
-      compressor.compress(row, columns, values);
-      rows.start[m + 1] = static_cast<std::uint32_t>(columns.size());  // thread-local for now
-      rows.constant[m] = row.constant;
+  // Rows are independent: each is built and compressed on its own and written straight to its
+  // place (no thread keeps a copy of the rows; the result does not depend on the thread count).
+  // A refresh changes only the values, so where the arrays already hold every row's columns one
+  // pass writes the values; otherwise one pass counts each row's entries and a second writes
+  // them at their offsets.
+  bool same_columns = rows.start.size() == static_cast<std::size_t>(count) + 1 && count > 0;
+  if (same_columns) {
+#pragma omp parallel for schedule(static) reduction(&& : same_columns)
+    for (std::ptrdiff_t m = 0; m < count; ++m) {
+      RowScratch<Dim>& scratch = RowScratch<Dim>::of_this_thread();
+      scratch.build(builder, rows.target[m], n);
+      const std::uint32_t begin = rows.start[m];
+      if (rows.start[m + 1] - begin != scratch.columns.size() ||
+          !std::equal(scratch.columns.begin(), scratch.columns.end(),
+                      rows.column.begin() + begin)) {
+        same_columns = false;
+        continue;
+      }
+      std::copy(scratch.values.begin(), scratch.values.end(), rows.value.begin() + begin);
+      rows.constant[m] = scratch.row.constant;
     }
-    offset[thread + 1] = columns.size();
-#pragma omp barrier
-#pragma omp single
-    {
-      for (int t = 0; t < threads; ++t) offset[t + 1] += offset[t];
-      rows.column.resize(offset[threads]);
-      rows.value.resize(offset[threads]);
-    }
-    const auto shift = static_cast<std::uint32_t>(offset[thread]);
-    for (std::ptrdiff_t m = first; m < last; ++m) rows.start[m + 1] += shift;
-    std::copy(columns.begin(), columns.end(), rows.column.begin() + offset[thread]);
-    std::copy(values.begin(), values.end(), rows.value.begin() + offset[thread]);
+    if (same_columns) return;
+  }
+  rows.start.assign(count + 1, 0);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t m = 0; m < count; ++m) {
+    RowScratch<Dim>& scratch = RowScratch<Dim>::of_this_thread();
+    scratch.build(builder, rows.target[m], n);
+    rows.start[m + 1] = static_cast<std::uint32_t>(scratch.columns.size());
+  }
+  std::size_t total = 0;
+  for (std::ptrdiff_t m = 0; m < count; ++m) {
+    total += rows.start[m + 1];
+    if (total > UINT32_MAX)
+      throw Error("co-rotated rows: more than 2^32 entries on a level of " + std::to_string(n) +
+                  " lattice points");
+    rows.start[m + 1] = static_cast<std::uint32_t>(total);
+  }
+  rows.column.resize(total);
+  rows.value.resize(total);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t m = 0; m < count; ++m) {
+    RowScratch<Dim>& scratch = RowScratch<Dim>::of_this_thread();
+    scratch.build(builder, rows.target[m], n);
+    std::copy(scratch.columns.begin(), scratch.columns.end(), rows.column.begin() + rows.start[m]);
+    std::copy(scratch.values.begin(), scratch.values.end(), rows.value.begin() + rows.start[m]);
+    rows.constant[m] = scratch.row.constant;
   }
 }
 
