@@ -45,7 +45,6 @@ struct CorotatedMultigrid<Dim>::Blocks {
     start.assign(1, 0);
     rows.clear();
     cell.clear();
-    schedule = {};
     inverse_start.assign(1, 0);
     inverse.clear();
     relocated.clear();
@@ -162,34 +161,32 @@ IVec<Dim> zone_size(const IVec<Dim>& reach) {
   return size.cwiseMax(reach + IVec<Dim>::Ones());
 }
 
-// The blocks `members` (all blocks when null) grouped by colored zone, in order.
+// The blocks `members` (all blocks when null) grouped by colored zone (the colors of
+// BlockPartition::color_of), in order.
 template <int Dim, typename Schedule>
 Schedule zone_schedule(const Lattice<Dim>& lattice, const std::vector<std::ptrdiff_t>& block_cells,
                        const std::vector<std::uint32_t>* members, const IVec<Dim>& zone) {
-  IVec<Dim> zones;
-  for (int a = 0; a < Dim; ++a) zones[a] = (lattice.cells[a] + zone[a] - 1) / zone[a];
-  std::vector<std::vector<std::uint32_t>> by_zone(static_cast<std::size_t>(zones.prod()));
+  BlockPartition<Dim> zones;
+  zones.block_size = zone;
+  for (int a = 0; a < Dim; ++a)
+    zones.blocks_per_axis[a] = (lattice.cells[a] + zone[a] - 1) / zone[a];
+  std::vector<std::vector<std::uint32_t>> by_zone(
+      static_cast<std::size_t>(zones.blocks_per_axis.prod()));
+  std::vector<int> color_of_zone(by_zone.size());
   const auto add = [&](std::uint32_t b) {
     const IVec<Dim> s = lattice.coords(block_cells[b]);
     std::size_t id = 0;
-    for (int a = Dim - 1; a >= 0; --a) id = id * zones[a] + (s[a] - 1) / zone[a];
+    for (int a = Dim - 1; a >= 0; --a) id = id * zones.blocks_per_axis[a] + (s[a] - 1) / zone[a];
     by_zone[id].push_back(b);
+    color_of_zone[id] = zones.color_of(s);
   };
   if (members)
     for (std::uint32_t b : *members) add(b);
   else
     for (std::uint32_t b = 0; b < block_cells.size(); ++b) add(b);
   Schedule schedule;
-  for (std::size_t id = 0; id < by_zone.size(); ++id) {
-    if (by_zone[id].empty()) continue;
-    int color = 0;
-    std::size_t rest = id;
-    for (int a = 0; a < Dim; ++a) {
-      color |= static_cast<int>((rest % zones[a]) & 1) << a;
-      rest /= zones[a];
-    }
-    schedule[color].push_back(std::move(by_zone[id]));
-  }
+  for (std::size_t id = 0; id < by_zone.size(); ++id)
+    if (!by_zone[id].empty()) schedule[color_of_zone[id]].push_back(std::move(by_zone[id]));
   return schedule;
 }
 

@@ -13,9 +13,9 @@
 // band's Schur complement with edge-averaged pressures, corotated_band_smoother.hpp, or BOX =
 // box sweeps over the band's cells), the distributive sweep with the generalized distribution
 // (15) over the interior (corotated_distributive_smoother.hpp), the band again; all of them
-// multithreaded (box sweeps over colored zones). Both smoothers add `relocation_sweeps` box sweeps over the
-// blocks of the Fig. 8 relocated-boundary sets and back-substitute the traction variables with
-// the co-rotated stress after each smoothing step.
+// multithreaded (box sweeps over colored zones). Both smoothers add `relocation_sweeps` box
+// sweeps over the blocks of the Fig. 8 relocated-boundary sets and back-substitute the traction
+// variables with the co-rotated stress after each smoothing step.
 //
 // Residuals: the quasi-linear one (rows of the current frozen rotations) and the true
 // non-linear one (rotations of the current displacement), both in the norm of residual.hpp.

@@ -541,15 +541,15 @@ double corotated_residual(Level<Dim, double>& level, const std::vector<Matrix<Di
   for (auto& field : level.r) zero_live(field, level.live);
   const std::vector<std::uint32_t>& targets = scratch->targets;
   const auto count = static_cast<std::ptrdiff_t>(targets.size());
-  const auto size = static_cast<std::size_t>(n);
+  const GlobalSplit<Dim> split = level.split();
 #pragma omp parallel
   {
     RowEvaluation<Dim> row{&level};
 #pragma omp for schedule(static)
     for (std::ptrdiff_t m = 0; m < count; ++m) {
       const std::uint32_t t = targets[m];
-      const int i = static_cast<int>(t / size);
-      const std::ptrdiff_t k = t % size;
+      const int i = split.field(t);
+      const auto k = static_cast<std::ptrdiff_t>(split.index(t, i));
       double lhs;
       if (i < Dim) {
         const auto& p = stress;
@@ -567,8 +567,7 @@ double corotated_residual(Level<Dim, double>& level, const std::vector<Matrix<Di
   // Summed in row order: the same norm for every thread count.
   double sum = 0.0;
   for (std::uint32_t t : targets)
-    if (t / size < static_cast<std::size_t>(Dim) || level.lambda > 0)
-      sum += level.r[t / size][t % size] * level.r[t / size][t % size];
+    if (split.field(t) < Dim || level.lambda > 0) sum += split(level.r, t) * split(level.r, t);
   return std::sqrt(sum);
 }
 

@@ -143,8 +143,8 @@ template <int Dim>
 using BoundaryStress = std::function<double(int i, int j, const Vec<Dim>&)>;
 
 // A global variable index field * n + k (Level::global) split into field and k by comparisons:
-// the co-rotated rows address every entry by its global index, and a division by the runtime n
-// per entry was most of their sweeps' time.
+// the co-rotated rows address every entry by its global index, and Dim comparisons cost less
+// than a division by the runtime n per entry.
 template <int Dim>
 struct GlobalSplit {
   std::size_t n;
