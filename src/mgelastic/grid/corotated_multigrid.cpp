@@ -260,6 +260,9 @@ void CorotatedMultigrid<Dim>::refresh_levels() {
   }
   for (int l = 0; l < levels(); ++l) build_level_system(l);
   m_cycles_since_refresh = 0;
+  m_rest_rotations = std::all_of(m_rotations[0].begin(), m_rotations[0].end(), [](const auto& r) {
+    return (r - Matrix<Dim>::Identity()).cwiseAbs().maxCoeff() <= 1e-12;
+  });
 }
 
 template <int Dim>
@@ -586,25 +589,30 @@ int CorotatedMultigrid<Dim>::newton_krylov_step(int directions, double target,
   matrix_free_nonlinear_residual();
   MinimalResidualCombination combination(residual_vector());
   const Eigen::VectorXd r0 = combination.residual();
-  // Forward difference step: ~sqrt(machine epsilon) of the unknowns' size (at least the cell).
-  const double scale = 1e-7 * std::max(x.lpNorm<Eigen::Infinity>(), m_multigrid.level(0).lattice.h);
-  auto add_direction = [&](const Eigen::VectorXd& z) {
-    const double largest = z.lpNorm<Eigen::Infinity>();
-    Eigen::VectorXd w = Eigen::VectorXd::Zero(x.size());
-    if (largest > 0 && std::isfinite(largest)) {
-      const double eps = scale / largest;
-      scatter_unknowns(x + eps * z);
-      matrix_free_nonlinear_residual();
-      w = (r0 - residual_vector()) / eps;
-    }
-    combination.add(z, w);
+  auto residual_at = [&](const Eigen::VectorXd& unknowns) {
+    scatter_unknowns(unknowns);
+    matrix_free_nonlinear_residual();
+    return residual_vector();
   };
-  for (const Eigen::VectorXd& z : m_recycled) add_direction(z);
+  // w = J z by a forward difference, ~sqrt(machine epsilon) of the unknowns' size (at least the
+  // cell); the first cycle direction's image is its chord (corotated_newton_krylov.hpp).
+  const double scale = 1e-7 * std::max(x.lpNorm<Eigen::Infinity>(), m_multigrid.level(0).lattice.h);
+  auto add_direction = [&](const Eigen::VectorXd& z, bool chord) {
+    const double largest = z.lpNorm<Eigen::Infinity>();
+    if (!(largest > 0 && std::isfinite(largest))) {
+      combination.add(z, Eigen::VectorXd::Zero(x.size()));
+      return;
+    }
+    const double eps = chord ? 1.0 : scale / largest;
+    combination.add(z, (r0 - residual_at(x + eps * z)) / eps);
+  };
+  for (const Eigen::VectorXd& z : m_recycled) add_direction(z, false);
   for (int j = 0; j < directions; ++j) {
     throw_if_cancelled();
-    const Eigen::VectorXd s = combination.residual();
-    const Eigen::VectorXd z = frozen_cycle_direction(x, frozen, &s);
-    add_direction(z);
+    // The first cycle on the rest rotations moves toward the frozen (linear) system's solution.
+    Eigen::VectorXd v = combination.residual();
+    if (j == 0 && m_rest_rotations && m_cycles_since_refresh == 0) v += frozen - r0;
+    add_direction(frozen_cycle_direction(x, frozen, &v), j == 0);
     const Eigen::VectorXd correction = combination.correction();
     scatter_unknowns(x + correction);
     const bool last = j + 1 == directions;

@@ -222,6 +222,7 @@ class CorotatedMultigrid {
   bool m_fresh_rotations = false;
   CorotatedResidualScratch<Dim> m_residual_scratch;  // of the finest level
   int m_cycles_since_refresh = 0;
+  bool m_rest_rotations = true;            // the finest rotations are the identity (those of u = 0)
   std::deque<Eigen::VectorXd> m_recycled;  // last Newton corrections (NEWTON_KRYLOV)
 };
 
