@@ -145,7 +145,7 @@ ElasticityProblem<3> bent_cantilever() {
 // Here from a cold start (u = 0) to a cantilever bent by a fifth of its length. Refreshing every
 // cycle with Anderson mixing (default) meets 0.5; plain frozen-rotation cycles (depth 0) and
 // k = 5 are limited by the outer iteration (next test) and only reported. Newton-Krylov steps of
-// k = 5 directions: 0.819 (Picard with Anderson, k = 5: 0.884); with k = 1 from this cold start
+// k = 5 directions: 0.834 (Picard with Anderson, k = 5: 0.884); with k = 1 from this cold start
 // it stagnates (the first V-cycle's direction at R = I raises the frozen residual 5x, so its
 // best step length is ~0), hence not the quasistatic default.
 TEST(CorotatedMultigrid, NonlinearResidualOfABentNearlyIncompressibleBarDropsPerCycle) {
