@@ -42,15 +42,6 @@ struct CorotatedMultigrid<Dim>::Blocks {
   // ALL, BAND and RELOCATED (BlockSet order): per color, per zone, the set's blocks in order.
   using Schedule = std::array<std::vector<std::vector<std::uint32_t>>, (1 << Dim)>;
   std::array<Schedule, 3> schedule;
-  void clear() {
-    start.assign(1, 0);
-    rows.clear();
-    cell.clear();
-    inverse_start.assign(1, 0);
-    inverse.clear();
-    relocated.clear();
-    band.clear();
-  }
 };
 
 template <int Dim>
@@ -94,40 +85,59 @@ std::string scientific(double value) {
   return text;
 }
 
+// A block per interior cell: the rows of its faces and its pressure (Sec. 5.2's box). Which rows
+// exist does not change between refreshes, so the blocks are built once; a refresh recomputes
+// their inverses (block_inverses).
 template <int Dim>
 void build_blocks(const Level<Dim, double>& level, const CorotatedRows& rows,
                   std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& block_rows,
-                  std::vector<std::ptrdiff_t>& block_cells, std::vector<std::size_t>& inverse_start,
-                  std::vector<double>& inverse) {
+                  std::vector<std::ptrdiff_t>& block_cells,
+                  std::vector<std::size_t>& inverse_start) {
   const auto n = static_cast<std::ptrdiff_t>(level.size());
   for (std::ptrdiff_t c = 0; c < n; ++c) {
     if (level.cells[c] != CellType::INTERIOR) continue;
-    std::vector<std::uint32_t> members;
+    const std::size_t first = block_rows.size();
     for (int i = 0; i < Dim; ++i)
       for (std::ptrdiff_t face : {c, c + level.lattice.stride(i)}) {
         const std::int32_t row = rows.row_of[level.global(i, face)];
-        if (row >= 0) members.push_back(static_cast<std::uint32_t>(row));
+        if (row >= 0) block_rows.push_back(static_cast<std::uint32_t>(row));
       }
     const std::int32_t p_row = rows.row_of[level.global(Dim, c)];
-    if (p_row >= 0) members.push_back(static_cast<std::uint32_t>(p_row));
-    if (members.empty()) continue;
-    const int m = static_cast<int>(members.size());
-    Eigen::MatrixXd a(m, m);
-    for (int r = 0; r < m; ++r)
-      for (int s = 0; s < m; ++s) a(r, s) = rows.coefficient(members[r], rows.target[members[s]]);
-    const Eigen::FullPivLU<Eigen::MatrixXd> lu(a);
-    // A singular block (degenerate rotations) is relaxed by its pseudo-inverse-free fallback:
-    // the diagonal only, so a sweep never produces NaN.
-    Eigen::MatrixXd inv = lu.isInvertible() ? Eigen::MatrixXd(lu.inverse())
-                                            : Eigen::MatrixXd(Eigen::MatrixXd::Zero(m, m));
-    if (!lu.isInvertible())
-      for (int r = 0; r < m; ++r) inv(r, r) = a(r, r) != 0 ? 1.0 / a(r, r) : 0.0;
-    block_rows.insert(block_rows.end(), members.begin(), members.end());
+    if (p_row >= 0) block_rows.push_back(static_cast<std::uint32_t>(p_row));
+    const std::size_t m = block_rows.size() - first;
+    if (m == 0) continue;
     start.push_back(static_cast<std::uint32_t>(block_rows.size()));
     block_cells.push_back(c);
+    inverse_start.push_back(inverse_start.back() + m * m);
+  }
+}
+
+// Each block's inverse from the current rows, blocks in parallel (each writes its own slot).
+void block_inverses(const CorotatedRows& rows, const std::vector<std::uint32_t>& start,
+                    const std::vector<std::uint32_t>& block_rows,
+                    const std::vector<std::size_t>& inverse_start, std::vector<double>& inverse) {
+  constexpr int kMax = 7;  // 2 Dim faces and the pressure
+  using Block = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMax, kMax>;
+  inverse.resize(inverse_start.back());
+  const auto blocks = static_cast<std::ptrdiff_t>(start.size()) - 1;
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::ptrdiff_t b = 0; b < blocks; ++b) {
+    const std::uint32_t* members = block_rows.data() + start[b];
+    const int m = static_cast<int>(start[b + 1] - start[b]);
+    Block a(m, m);
     for (int r = 0; r < m; ++r)
-      for (int s = 0; s < m; ++s) inverse.push_back(inv(r, s));
-    inverse_start.push_back(inverse.size());
+      for (int c = 0; c < m; ++c) a(r, c) = rows.coefficient(members[r], rows.target[members[c]]);
+    const Eigen::FullPivLU<Block> lu(a);
+    // A singular block (degenerate rotations) is relaxed by its pseudo-inverse-free fallback:
+    // the diagonal only, so a sweep never produces NaN.
+    Block inv = Block::Zero(m, m);
+    if (lu.isInvertible())
+      inv = lu.inverse();
+    else
+      for (int r = 0; r < m; ++r) inv(r, r) = a(r, r) != 0 ? 1.0 / a(r, r) : 0.0;
+    double* out = inverse.data() + inverse_start[b];
+    for (int r = 0; r < m; ++r)
+      for (int c = 0; c < m; ++c) out[r * m + c] = inv(r, c);
   }
 }
 
@@ -308,13 +318,18 @@ void CorotatedMultigrid<Dim>::build_level_system(int l) {
       throw Error("the co-rotated coarsest-level matrix is singular (a body without support?)");
     return;
   }
-  // Refilled in place (a refresh rebuilds them all).
-  if (!m_blocks[l]) m_blocks[l] = std::make_unique<Blocks>();
+  if (m_blocks[l]) {  // a refresh: the same rows exist, with new values
+    Blocks& blocks = *m_blocks[l];
+    block_inverses(m_rows[l], blocks.start, blocks.rows, blocks.inverse_start, blocks.inverse);
+    if (m_options.smoother == CorotatedSmoother::DISTRIBUTIVE)
+      m_interior[l] = std::make_unique<Interior>(Interior{{level, m_rows[l]}, {level, m_rows[l]}});
+    return;
+  }
+  m_blocks[l] = std::make_unique<Blocks>();
   Blocks* blocks = m_blocks[l].get();
-  blocks->clear();
-  build_blocks(level, m_rows[l], blocks->start, blocks->rows, blocks->cell, blocks->inverse_start,
-               blocks->inverse);
-  if (m_zone_size[l] == IVec<Dim>::Zero()) m_zone_size[l] = zone_size(row_reach(level, m_rows[l]));
+  build_blocks(level, m_rows[l], blocks->start, blocks->rows, blocks->cell, blocks->inverse_start);
+  block_inverses(m_rows[l], blocks->start, blocks->rows, blocks->inverse_start, blocks->inverse);
+  m_zone_size[l] = zone_size(row_reach(level, m_rows[l]));
   std::vector<std::uint8_t> marked(m_rows[l].rows(), 0);
   for (const auto* set : {&level.pre_restriction_rows, &level.post_prolongation_rows})
     for (std::uint32_t m : *set) {
@@ -610,22 +625,24 @@ int CorotatedMultigrid<Dim>::newton_krylov_step(int directions, double target,
   matrix_free_nonlinear_residual();
   MinimalResidualCombination combination(residual_vector());
   const Eigen::VectorXd r0 = combination.residual();
-  auto residual_at = [&](const Eigen::VectorXd& unknowns) {
-    scatter_unknowns(unknowns);
-    matrix_free_nonlinear_residual();
-    return residual_vector();
-  };
   // w = J z by a forward difference, ~sqrt(machine epsilon) of the unknowns' size (at least the
-  // cell); the first cycle direction's image is its chord (corotated_newton_krylov.hpp).
+  // cell); the first cycle direction's image is its chord (corotated_newton_krylov.hpp). The
+  // evaluation point lives in storage kept between steps (each fresh vector of the finest
+  // unknowns is paged in anew).
   const double scale = 1e-7 * std::max(x.lpNorm<Eigen::Infinity>(), m_multigrid.level(0).lattice.h);
-  auto add_direction = [&](const Eigen::VectorXd& z, bool chord) {
+  auto add_direction = [&](Eigen::VectorXd z, bool chord) {
     const double largest = z.lpNorm<Eigen::Infinity>();
     if (!(largest > 0 && std::isfinite(largest))) {
-      combination.add(z, Eigen::VectorXd::Zero(x.size()));
+      combination.add(std::move(z), Eigen::VectorXd());
       return;
     }
     const double eps = chord ? 1.0 : scale / largest;
-    combination.add(z, (r0 - residual_at(x + eps * z)) / eps);
+    m_trial_unknowns = x + eps * z;
+    scatter_unknowns(m_trial_unknowns);
+    matrix_free_nonlinear_residual();
+    Eigen::VectorXd image = residual_vector();
+    image = (r0 - image) / eps;
+    combination.add(std::move(z), std::move(image));
   };
   for (const Eigen::VectorXd& z : m_recycled) add_direction(z, false);
   for (int j = 0; j < directions; ++j) {
@@ -635,7 +652,8 @@ int CorotatedMultigrid<Dim>::newton_krylov_step(int directions, double target,
     if (j == 0 && m_rest_rotations && m_cycles_since_refresh == 0) v += frozen - r0;
     add_direction(frozen_cycle_direction(x, frozen, &v), j == 0);
     const Eigen::VectorXd correction = combination.correction();
-    scatter_unknowns(x + correction);
+    m_trial_unknowns = x + correction;
+    scatter_unknowns(m_trial_unknowns);
     const bool last = j + 1 == directions;
     ++m_cycles_since_refresh;
     // After the last direction the residual keeps its rows when the next step refreshes.

@@ -224,6 +224,7 @@ class CorotatedMultigrid {
   int m_cycles_since_refresh = 0;
   bool m_rest_rotations = true;            // the finest rotations are the identity (those of u = 0)
   std::deque<Eigen::VectorXd> m_recycled;  // last Newton corrections (NEWTON_KRYLOV)
+  Eigen::VectorXd m_trial_unknowns;        // the Newton step's evaluation points
 };
 
 }  // namespace mgelastic::grid

@@ -36,8 +36,11 @@ class MinimalResidualCombination {
  public:
   explicit MinimalResidualCombination(Eigen::VectorXd initial_residual);
   // Adds a direction z and its image w = J z; updates the coefficients. A w that lies in the
-  // span of the earlier ones gets weight zero.
-  void add(const Eigen::VectorXd& direction, const Eigen::VectorXd& image);
+  // span of the earlier ones (within 1e-10 of its norm) gets weight zero. The images are
+  // orthonormalized as they come (Gram-Schmidt, twice), so an addition costs a few passes over
+  // the vectors and no storage beyond them (the finest level of a 256-cell scene has 1.5 M
+  // unknowns: a dense n x k copy per addition paged in ~12 MB per column).
+  void add(Eigen::VectorXd direction, Eigen::VectorXd image);
   // r_0 - W a: the linearized residual after the correction.
   const Eigen::VectorXd& residual() const { return m_residual; }
   // Z a: the correction of the unknowns.
@@ -45,8 +48,13 @@ class MinimalResidualCombination {
   int directions() const { return static_cast<int>(m_z.size()); }
 
  private:
-  Eigen::VectorXd m_initial, m_residual, m_coefficients;
-  std::vector<Eigen::VectorXd> m_z, m_w;
+  Eigen::VectorXd coefficients() const;
+
+  Eigen::VectorXd m_initial, m_residual;
+  std::vector<Eigen::VectorXd> m_z, m_q;  // directions; orthonormal images of the kept ones
+  std::vector<int> m_kept;                // direction of each q
+  Eigen::MatrixXd m_r;                    // W_kept = Q R (upper triangular)
+  std::vector<double> m_q_dot_r0;         // Q^T r_0
 };
 
 }  // namespace mgelastic::grid
