@@ -221,9 +221,11 @@ class CorotatedRowBuilder {
     for (int a = 0; a < Dim; ++a)
       for (int b = 0; b < Dim; ++b) {
         // (R G^T R)_ij = sum_ab R_ia G_ba R_bj.
+        // Zero coefficients too (R = I has many): the rows keep one pattern for every R, so a
+        // refresh rewrites values only.
         double c = r(i, a) * r(b, j);
         if (b == i && a == j) c += 1.0;
-        if (c != 0.0) gradient(b, a, weight * m_mu * c);
+        gradient(b, a, weight * m_mu * c);
       }
     if (!m_homogeneous) {
       const Matrix<Dim> d = Matrix<Dim>::Identity() - r;
