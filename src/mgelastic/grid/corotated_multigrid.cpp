@@ -237,7 +237,6 @@ CorotatedMultigrid<Dim>::CorotatedMultigrid(const ElasticityProblem<Dim>& proble
   m_rotations.resize(levels());
   m_rows.resize(levels());
   m_blocks.resize(levels());
-  m_zone_size.assign(levels(), IVec<Dim>::Zero());
   m_interior.resize(levels());
   const auto& finest = m_multigrid.level(0);
   for (int f = 0; f < Dim; ++f)
@@ -291,9 +290,6 @@ void CorotatedMultigrid<Dim>::refresh_levels() {
   }
   for (int l = 0; l < levels(); ++l) build_level_system(l);
   m_cycles_since_refresh = 0;
-  m_rest_rotations = std::all_of(m_rotations[0].begin(), m_rotations[0].end(), [](const auto& r) {
-    return (r - Matrix<Dim>::Identity()).cwiseAbs().maxCoeff() <= 1e-12;
-  });
 }
 
 template <int Dim>
@@ -329,7 +325,6 @@ void CorotatedMultigrid<Dim>::build_level_system(int l) {
   Blocks* blocks = m_blocks[l].get();
   build_blocks(level, m_rows[l], blocks->start, blocks->rows, blocks->cell, blocks->inverse_start);
   block_inverses(m_rows[l], blocks->start, blocks->rows, blocks->inverse_start, blocks->inverse);
-  m_zone_size[l] = zone_size(row_reach(level, m_rows[l]));
   std::vector<std::uint8_t> marked(m_rows[l].rows(), 0);
   for (const auto* set : {&level.pre_restriction_rows, &level.post_prolongation_rows})
     for (std::uint32_t m : *set) {
@@ -355,7 +350,9 @@ void CorotatedMultigrid<Dim>::build_level_system(int l) {
     m_interior[l] = std::make_unique<Interior>(Interior{{level, m_rows[l]}, {level, m_rows[l]}});
   }
   using Schedule = typename Blocks::Schedule;
-  const IVec<Dim>& zone = m_zone_size[l];
+  // The rows keep one pattern for every R (corotated_operator.cpp), so the reach measured now
+  // holds for every refresh.
+  const IVec<Dim> zone = zone_size(row_reach(level, m_rows[l]));
   const auto& cells = blocks->cell;
   blocks->schedule[0] = zone_schedule<Dim, Schedule>(level.lattice, cells, nullptr, zone);
   blocks->schedule[1] = zone_schedule<Dim, Schedule>(level.lattice, cells, &blocks->band, zone);
@@ -607,6 +604,14 @@ Eigen::VectorXd CorotatedMultigrid<Dim>::frozen_cycle_direction(const Eigen::Vec
   return z;
 }
 
+// Whether the finest rotations are the identity (those of u = 0, as built).
+template <int Dim>
+bool CorotatedMultigrid<Dim>::rest_rotations() const {
+  return std::all_of(m_rotations[0].begin(), m_rotations[0].end(), [](const Matrix<Dim>& r) {
+    return (r - Matrix<Dim>::Identity()).cwiseAbs().maxCoeff() <= 1e-12;
+  });
+}
+
 // One Newton step at the refreshed rotations (corotated_newton_krylov.hpp); pushes the
 // non-linear residual after each direction (one frozen V-cycle each) and returns how many were
 // used (fewer when `target` is reached first).
@@ -649,7 +654,7 @@ int CorotatedMultigrid<Dim>::newton_krylov_step(int directions, double target,
     throw_if_cancelled();
     // The first cycle on the rest rotations moves toward the frozen (linear) system's solution.
     Eigen::VectorXd v = combination.residual();
-    if (j == 0 && m_rest_rotations && m_cycles_since_refresh == 0) v += frozen - r0;
+    if (j == 0 && m_cycles_since_refresh == 0 && rest_rotations()) v += frozen - r0;
     add_direction(frozen_cycle_direction(x, frozen, &v), j == 0);
     const Eigen::VectorXd correction = combination.correction();
     m_trial_unknowns = x + correction;

@@ -189,6 +189,7 @@ class CorotatedMultigrid {
   double solve_cycle();
   double accelerated_cycle(AndersonMixing& anderson, double previous, double& quasi_linear);
   int newton_krylov_step(int directions, double target, CorotatedReport& report);
+  bool rest_rotations() const;
   Eigen::VectorXd residual_vector() const;
   Eigen::VectorXd frozen_cycle_direction(const Eigen::VectorXd& x, const Eigen::VectorXd& r0,
                                          const Eigen::VectorXd* v);
@@ -212,7 +213,6 @@ class CorotatedMultigrid {
   std::vector<std::vector<Matrix<Dim>>> m_rotations;
   std::vector<CorotatedRows> m_rows;
   std::vector<std::unique_ptr<Blocks>> m_blocks;
-  std::vector<IVec<Dim>> m_zone_size;  // per level: the box sweeps' colored zones (0 until built)
   std::vector<std::unique_ptr<Interior>> m_interior;  // DISTRIBUTIVE only
   std::unique_ptr<CoarseFactor> m_coarse;
   // Rotations of the last non-linear residual's x (storage kept between calls); when the next
@@ -222,7 +222,6 @@ class CorotatedMultigrid {
   bool m_fresh_rotations = false;
   CorotatedResidualScratch<Dim> m_residual_scratch;  // of the finest level
   int m_cycles_since_refresh = 0;
-  bool m_rest_rotations = true;            // the finest rotations are the identity (those of u = 0)
   std::deque<Eigen::VectorXd> m_recycled;  // last Newton corrections (NEWTON_KRYLOV)
   Eigen::VectorXd m_trial_unknowns;        // the Newton step's evaluation points
 };
