@@ -589,13 +589,17 @@ Eigen::VectorXd CorotatedMultigrid<Dim>::frozen_cycle_direction(const Eigen::Vec
                                                                 const Eigen::VectorXd* v) {
   auto& level = m_multigrid.level(0);
   const CorotatedRows& rows = m_rows[0];
-  std::vector<double> saved;
-  if (v)
+  // The loads are saved in storage kept between calls (a fresh vector of the finest unknowns is
+  // paged in anew on every call).
+  std::vector<double>& saved = m_saved_loads;
+  if (v) {
+    saved.resize(rows.rows());
     for (std::size_t m = 0; m < rows.rows(); ++m) {
       double& b = level.split()(level.b, rows.target[m]);
-      saved.push_back(b);
+      saved[m] = b;
       b += (*v)[static_cast<Eigen::Index>(m)] - r0[static_cast<Eigen::Index>(m)];
     }
+  }
   correct(0);
   Eigen::VectorXd z = gather_unknowns() - x;
   if (v)

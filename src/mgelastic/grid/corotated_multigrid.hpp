@@ -224,6 +224,7 @@ class CorotatedMultigrid {
   int m_cycles_since_refresh = 0;
   std::deque<Eigen::VectorXd> m_recycled;  // last Newton corrections (NEWTON_KRYLOV)
   Eigen::VectorXd m_trial_unknowns;        // the Newton step's evaluation points
+  std::vector<double> m_saved_loads;       // frozen_cycle_direction's finest b
 };
 
 }  // namespace mgelastic::grid
