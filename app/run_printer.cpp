@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "interruption.hpp"
 
@@ -90,6 +91,23 @@ void print_tet_setup(const scene::Scene& s, const sim::TetStepper& tet) {
       rotation_name(setup.settings.rotation_method), solver_name, s.time.frames, s.time.dt);
 }
 
+// Why a grid frame stopped short of its tolerance without using up its cycles.
+const char* stall_note(const std::string& precision) {
+  return precision == "single" ? " (NOT converged: stalled at float round-off)"
+                               : " (NOT converged: stalled at the round-off floor of double "
+                                 "precision)";
+}
+
+// Why frames stopped short of the tolerance: the cycle limit, or round-off.
+std::string unreached_tolerance_reason(const scene::Scene& s, bool stalled) {
+  if (!stalled) return "the cycle limit " + std::to_string(s.max_vcycles) + " came first";
+  if (s.precision == "single")
+    return "the residual stalled at float round-off (single precision; \"float\" reaches it "
+           "with the same float cycles)";
+  return "the residual stalled at the round-off floor of x in double precision (~eps |A| |x|, "
+         "which grows with the resolution): ask for a tolerance above the residual reached";
+}
+
 }  // namespace
 
 void print_setup(const sim::Simulation& simulation, double) {
@@ -156,7 +174,7 @@ bool RunPrinter::frame_done(const sim::Simulation& simulation, const sim::FrameS
       std::snprintf(status, sizeof status, "t = %.3f s  %d cycles  relative residual %.2e%s",
                     stats.time, stats.cycles, last.relative_residual,
                     stats.converged ? ""
-                    : last.stalled  ? " (NOT converged: stalled at float round-off)"
+                    : last.stalled  ? stall_note(s.precision)
                                     : " (NOT converged)");
     m_progress.update(stats.frame + 1, status);
   }
@@ -267,12 +285,8 @@ void RunPrinter::print_summary(const sim::Simulation& simulation,
                   ph.restriction + ph.prolongation, ph.coarse_solve);
     std::printf(", output %.2f s\n", output_seconds());
     if (s.time.quasistatic && m_total.worst_residual > s.tolerance)
-      std::printf("warning: some frames did not reach the tolerance %.1e within %d cycles%s\n",
-                  s.tolerance, s.max_vcycles,
-                  s.precision == "single" && m_stalled > 0
-                      ? " (single precision: the residual stalled at float round-off; "
-                        "\"float\" reaches it with the same float cycles)"
-                      : "");
+      std::printf("warning: some frames did not reach the tolerance %.1e: %s\n", s.tolerance,
+                  unreached_tolerance_reason(s, m_stalled > 0).c_str());
   }
   print_probes(simulation.scene(), probes());
   std::printf("wrote %s\n", dir.string().c_str());

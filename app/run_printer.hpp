@@ -27,7 +27,7 @@ class RunPrinter : public sim::OutputObserver {
   Progress m_progress;
   sim::FrameStats m_total;  // summed over the frames of this run
   int m_frames = 0, m_unconverged = 0, m_rate_steps = 0;
-  int m_stalled = 0;  // single-precision steps stopped at float round-off
+  int m_stalled = 0;  // grid steps stopped at the round-off floor of their precision
   double m_log_rate_sum = 0, m_last_quasi_linear = 0;
 };
 

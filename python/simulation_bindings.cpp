@@ -301,8 +301,9 @@ void bind_simulation(py::module_& m) {
       .def_readonly("quasi_linear_residual", &sim::StepStats::quasi_linear_residual)
       .def_readonly("converged", &sim::StepStats::converged)
       .def_readonly("stalled", &sim::StepStats::stalled,
-                    "grid single precision: stopped short of the tolerance where float round-off "
-                    "stalled the residual")
+                    "grid: stopped short of the tolerance where round-off stalled the residual "
+                    "(float round-off in single precision, else the round-off floor of x in "
+                    "double)")
       .def_readonly("seconds", &sim::StepStats::seconds);
   py::class_<sim::FrameStats>(m, "FrameStats", "Solver statistics of one frame.")
       .def_readonly("frame", &sim::FrameStats::frame, "index (-1 before the first frame)")

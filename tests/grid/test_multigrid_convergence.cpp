@@ -223,6 +223,26 @@ TEST(MultigridSolve, SinglePrecisionStopsWhereRoundOffStallsTheResidual) {
   EXPECT_LT(r.residuals.back(), 1e-3 * r.residuals.front());  // it converged first
 }
 
+// The accelerated solve in double cannot reach 1e-18 either (the residual of x's own rounding,
+// ~eps |A| |x|, is far above eps |b|): it stops at that floor, well before the cycle limit, and
+// says why, after the residual had fallen as far as it can. A reachable tolerance on the same
+// problem converges without a stall.
+TEST(MultigridSolve, AcceleratedSolveStopsAtTheRoundOffFloor) {
+  BoxSpec spec;
+  spec.cells = 16;
+  spec.poisson_ratio = 0.45;
+  Multigrid<3, double> mg(make_box_problem<3>(spec));
+  const SolveReport r = mg.solve_accelerated(1e-18, 200);
+  EXPECT_FALSE(r.converged);
+  EXPECT_TRUE(r.stalled);
+  EXPECT_LT(r.cycles(), 80);
+  EXPECT_LT(r.residuals.back(), 1e-12 * r.residuals.front());
+  Multigrid<3, double> reachable(make_box_problem<3>(spec));
+  const SolveReport ok = reachable.solve_accelerated(1e-10, 200);
+  EXPECT_TRUE(ok.converged);
+  EXPECT_FALSE(ok.stalled);
+}
+
 TEST(ConvergenceRate, GeometricMeanOfLastFiveRatiosAboveFloor) {
   const std::vector<double> residuals{1.0, 0.5, 0.1, 0.01, 1e-3, 1e-4, 1e-5, 1e-6, 1e-12, 1e-13};
   // Cycles 8 and 9 are below 1e-11 of the initial residual and do not count.

@@ -285,6 +285,13 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
   };
   int cycles = 0;
   double r_norm = report.residuals.front();
+  // Round-off floor: in exact arithmetic the estimate equals the true residual, so a restart
+  // whose estimate reached the target while the true residual did not has met the residual of
+  // x's own rounding (~eps |A| |x|, far above eps |b| for soft, finely resolved bodies). Such a
+  // restart that also fails to halve the smallest true residual so far counts as stalled; two in a
+  // row stop the solve (another restart would only wander around the floor).
+  double smallest = r_norm;
+  int stalled_restarts = 0;
   while (cycles < max_cycles && r_norm > target) {
     const int m = std::min(restart, max_cycles - cycles);
     slot(v, 0) = r;
@@ -295,6 +302,7 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
                     sn = Eigen::VectorXd::Zero(m);
     g[0] = r_norm;
     int j = 0;
+    bool estimate_reached = false;
     for (; j < m; ++j) {
       try {
         throw_if_cancelled();
@@ -327,6 +335,7 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
       report.residuals.push_back(std::abs(g[j + 1]));
       if (!std::isfinite(g[j + 1])) diverged("the residual estimate is not finite");
       if (std::abs(g[j + 1]) <= target || beta == 0.0) {  // converged, or exact (breakdown)
+        estimate_reached = true;
         ++j;
         break;
       }
@@ -340,6 +349,13 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
     report.residuals.back() = r_norm;
     const std::string reason = divergence_reason(report.residuals);
     if (!reason.empty()) diverged(reason);
+    const bool at_floor = estimate_reached && r_norm > target && r_norm > 0.5 * smallest;
+    stalled_restarts = at_floor ? stalled_restarts + 1 : 0;
+    smallest = std::min(smallest, r_norm);
+    if (stalled_restarts >= 2) {
+      report.stalled = true;
+      break;
+    }
   }
   report.converged = r_norm <= target;
   report.seconds = timer.seconds();

@@ -12,8 +12,9 @@ struct StepStats {
   double quasi_linear_reduction = 0;  // grid co-rotated: last / first of the frozen system
   double quasi_linear_residual = 0;   // grid co-rotated: last residual of the frozen system
   bool converged = true;
-  // Grid single precision: stopped short of the tolerance where float round-off stalled the
-  // residual (relative_residual is the level reached).
+  // Grid: stopped short of the tolerance where round-off stalled the residual (single precision:
+  // float round-off; accelerated solves: the round-off floor of x in double, ~eps |A| |x|);
+  // relative_residual is the level reached.
   bool stalled = false;
   double seconds = 0;
 };
