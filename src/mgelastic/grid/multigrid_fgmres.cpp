@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -115,6 +116,33 @@ void zero_interior(const InteriorVariables<Dim>& vars, std::array<FieldArray<T>,
     for (std::ptrdiff_t i = 0; i < count; ++i) to[points[i]] = T(0);
   }
 }
+
+// While alive, the level's band rows have no constants (boundary stresses moved to the
+// right-hand side): the cycle then solves the homogeneous correction problem, a linear map of
+// its right-hand side. A level that holds the solution (one level in double precision) keeps
+// the traction loads there; with them the preconditioner was affine, B(v) = B_0 (v - c), and
+// for a tip-loaded cantilever |c| ~ 1e6 |v| made every preconditioned vector the same one.
+template <int Dim, typename Scalar>
+class HomogeneousBand {
+ public:
+  explicit HomogeneousBand(Level<Dim, Scalar>& level) : m_level(level) { swap_all(); }
+  ~HomogeneousBand() { swap_all(); }
+  HomogeneousBand(const HomogeneousBand&) = delete;
+  HomogeneousBand& operator=(const HomogeneousBand&) = delete;
+
+ private:
+  void swap_all() {
+    swap_with_zeros(m_level.band_kernel.constant, m_kernel);
+    swap_with_zeros(m_level.band_p.constant, m_pressure);
+    swap_with_zeros(m_level.band_u.constant, m_csr);
+  }
+  static void swap_with_zeros(std::vector<Scalar>& constants, std::vector<Scalar>& zeros) {
+    if (zeros.size() != constants.size()) zeros.assign(constants.size(), Scalar(0));
+    constants.swap(zeros);
+  }
+  Level<Dim, Scalar>& m_level;
+  std::vector<Scalar> m_kernel, m_pressure, m_csr;
+};
 
 template <int Dim, typename T>
 void zero_fields(std::array<FieldArray<T>, Dim + 1>& fields, const LiveChunks& live) {
@@ -256,6 +284,8 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
   const auto apply_preconditioner = [&](const Eigen::VectorXd& v, ScalarVector& z) {
     zero_fields<Dim>(fine.x, fine.live);
     scatter(vars, v, fine.b);
+    std::optional<HomogeneousBand<Dim, Scalar>> homogeneous;
+    if (shared_level) homogeneous.emplace(fine);
     cycle_correction();
     gather(vars, fine.x, z);
   };
