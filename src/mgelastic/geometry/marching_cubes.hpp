@@ -5,7 +5,11 @@
 // Sampling: d[i, j, k] = signed_distance(o + s (i, j, k)) for 0 <= i < n_x etc., x fastest, on a
 // lattice of spacing s centered on the box and reaching at least one sample beyond it on every
 // side. The outermost layer of samples counts as outside (d := max(d, 0)), so the surface is
-// closed even where a caller's box clips the shape: the clipped part is capped there.
+// closed even where a caller's box clips the shape: the clipped part is capped there. Samples
+// farther than 2 s from the surface are not queried one by one: a block of 8 x 8 samples of a
+// slab whose center is far enough takes the bound the 1-Lipschitz distance gives from the
+// center's value (its sign is theirs); no cube with such a corner is crossed by the surface,
+// so the mesh is the one the full sampling gives (CSG min/max bounds are 1-Lipschitz too).
 //
 // Extraction: marching tetrahedra on the cube lattice. Each cube is split into the six Kuhn
 // tetrahedra around its (0,0,0)-(1,1,1) diagonal, so every cube face is split along the diagonal
@@ -33,7 +37,8 @@ namespace mgelastic::geometry {
 
 // Returns vertices (V x 3, world coordinates) and triangles (T x 3 vertex rows, counterclockwise
 // seen from outside). Throws Error when spacing <= 0, the box is empty or not finite, the lattice
-// would exceed 2^31 samples, or the signed distance is not finite at a sample. `box` defaults to
+// would exceed 2^31 samples, or the signed distance is not finite at a sample it queries (every
+// sample within 2 s of the surface and one per block of 8 x 8 samples elsewhere). `box` defaults to
 // shape.bounding_box().
 TriangleMesh extract_surface(const Shape& shape, double spacing,
                              const std::optional<BoundingBox>& box = std::nullopt);
