@@ -40,6 +40,8 @@ void extend_into_empty_nodes(NodeDisplacement& u, std::vector<char>& defined, in
   };
   for (int layer = 0; layer < layers; ++layer) {
     std::vector<char> next = defined;
+    // A node of this layer is written once and reads only nodes defined before it: parallel.
+#pragma omp parallel for schedule(static)
     for (int k = 0; k < u.nodes[2]; ++k)
       for (int j = 0; j < u.nodes[1]; ++j)
         for (int i = 0; i < u.nodes[0]; ++i)
@@ -80,6 +82,8 @@ NodeDisplacement node_displacement(const Level<3, Scalar>& level,
   std::vector<char> defined_node(u.values.size(), 0);
   // Node (i, j, k) is the lower corner of stored cell (i+1, j+1, k+1); the faces normal to e_a
   // sharing it are the lower a-faces of that cell and of its neighbors across the other axes.
+  // Each node is written once from reads alone (`value` must be safe to call concurrently).
+#pragma omp parallel for schedule(static)
   for (int k = 0; k < u.nodes[2]; ++k)
     for (int j = 0; j < u.nodes[1]; ++j)
       for (int i = 0; i < u.nodes[0]; ++i) {
@@ -125,6 +129,7 @@ std::vector<double> von_mises_stress(const NodeDisplacement& u, const Material& 
   const IVec<3> cells = u.nodes - IVec<3>::Ones();
   std::vector<double> result(std::size_t(cells.prod()));
   const double mu = material.mu(), lambda = material.lambda();
+#pragma omp parallel for schedule(static)
   for (int k = 0; k < cells[2]; ++k)
     for (int j = 0; j < cells[1]; ++j)
       for (int i = 0; i < cells[0]; ++i) {

@@ -22,7 +22,8 @@ struct NodeDisplacement {
   Vec<3> sample(const Vec<3>& x) const;
 };
 
-// `value(field, k)` returns the finest-level solution (Multigrid::solution).
+// `value(field, k)` returns the finest-level solution (Multigrid::solution); it is called from
+// several threads at once.
 template <typename Scalar>
 NodeDisplacement node_displacement(const Level<3, Scalar>& level,
                                    const std::function<double(int, std::ptrdiff_t)>& value);

@@ -1,8 +1,8 @@
 #pragma once
 // Writers of triangle surface meshes, the counterparts of geometry's surface mesh readers.
 // `vertices` is (V x 3), one position per row; `triangles` is (T x 3), 0-based vertex indices per
-// row, counter-clockwise seen from outside. Every file is written atomically; ASCII numbers carry
-// max_digits10 digits, so reading them back gives the same doubles.
+// row, counter-clockwise seen from outside. Every file is written atomically; ASCII numbers are
+// the shortest text that reads back to the same double (std::to_chars), formatted in parallel.
 #include <Eigen/Core>
 #include <filesystem>
 
