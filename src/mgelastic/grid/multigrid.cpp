@@ -599,8 +599,7 @@ SolveReport Multigrid<Dim, Scalar>::solve(double relative_tolerance, int max_cyc
   const StartState& start = capture_start();  // for the replay of a diverging solve
   m_phases.solve_setup += timer.seconds();
   const double target = relative_tolerance * report.residuals.front();
-  double smallest = report.residuals.front();
-  int without_progress = 0;
+  StallWatch stall(stall_cycles);
   // A float residual (a deferred refinement) at the tolerance is checked in double first.
   const auto reached = [&] {
     if (m_correction_pending && report.residuals.back() <= target)
@@ -619,9 +618,7 @@ SolveReport Multigrid<Dim, Scalar>::solve(double relative_tolerance, int max_cyc
     const std::string reason = divergence_reason(report.residuals);
     if (!reason.empty())
       fail_diverged("V-cycle " + std::to_string(report.cycles()), reason, report.residuals, start);
-    without_progress = report.residuals.back() < smallest ? 0 : without_progress + 1;
-    smallest = std::min(smallest, report.residuals.back());
-    if (stall_cycles > 0 && without_progress >= stall_cycles && report.residuals.back() > target) {
+    if (stall.stalled_after(report.residuals.back()) && report.residuals.back() > target) {
       report.stalled = true;
       break;
     }

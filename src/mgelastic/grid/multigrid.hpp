@@ -181,7 +181,8 @@ class Multigrid {
   // non-finite residual, or growth beyond kResidualGrowthLimit, solver_health.hpp) throws Error
   // with the residual history and the level and phase found by a checked replay.
   // stall_cycles > 0: also stops (converged false, stalled true) after that many consecutive
-  // cycles that do not lower the smallest residual so far. A slow but converging solve sets a
+  // cycles that do not lower the smallest residual after a cycle (StallWatch: the initial
+  // residual does not count, a first cycle may raise it). A slow but converging solve sets a
   // new minimum every cycle; only a residual at round-off wanders above it (single precision).
   SolveReport solve(double relative_tolerance, int max_cycles, int stall_cycles = 0);
   SolveReport run_cycles(int cycles);

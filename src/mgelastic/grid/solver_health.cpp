@@ -1,5 +1,6 @@
 #include "mgelastic/grid/solver_health.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -56,6 +57,12 @@ std::string format_history(const std::vector<double>& residuals) {
     text += number(r);
   }
   return text;
+}
+
+bool StallWatch::stalled_after(double residual) {
+  m_without_progress = residual < m_smallest ? 0 : m_without_progress + 1;
+  m_smallest = std::min(m_smallest, residual);
+  return m_stall_cycles > 0 && m_without_progress >= m_stall_cycles;
 }
 
 std::string divergence_reason(const std::vector<double>& residuals) {

@@ -9,6 +9,7 @@
 // report names the first phase that produced non-finite values or, when all stay finite, the
 // phase that grew its level's residual the most, with the residual history. The replay repeats
 // the failing solve exactly (the kernels are deterministic for a fixed thread count).
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,23 @@ std::string format_history(const std::vector<double>& residuals);
 // Why a residual history shows divergence ("" when it does not): its last entry is non-finite or
 // above kResidualGrowthLimit times its first.
 std::string divergence_reason(const std::vector<double>& residuals);
+
+// Stall detection of plain cycles (Multigrid::solve's stall_cycles): a cycle makes progress when
+// its residual is below every residual after an earlier cycle. The initial residual does not
+// count: a zero start's first cycle may raise the residual many times over (the armadillo at 128
+// cells: x14, then 0.56 per cycle), and measuring progress against it stopped single-precision
+// solves after three cycles at 5.8 times the initial residual, "stalled at float round-off".
+class StallWatch {
+ public:
+  explicit StallWatch(int stall_cycles) : m_stall_cycles(stall_cycles) {}
+  // Records the residual after a cycle; true once stall_cycles cycles in a row made no progress.
+  bool stalled_after(double residual);
+
+ private:
+  int m_stall_cycles;
+  int m_without_progress = 0;
+  double m_smallest = std::numeric_limits<double>::infinity();
+};
 
 class CycleMonitor {
  public:
