@@ -16,6 +16,33 @@ inline ElasticityProblem<3> mixed_box(int cells) {
   return make_box_problem<3>(spec);
 }
 
+// A beam of `cells` lattice cells (all real cells of the body, spacing 1 / cells[0]) clamped over
+// its first three cell layers along x, with make_box_problem's material and loads at nu 0.3:
+// plates and slender bars.
+inline ElasticityProblem<3> clamped_beam(const IVec<3>& cells) {
+  ElasticityProblem<3> beam = make_box_problem<3>({.cells = 8, .poisson_ratio = 0.3});
+  beam.lattice = Lattice<3>(cells, 1.0 / cells[0]);
+  beam.cells.assign(beam.lattice.size(), CellType::EXTERIOR);
+  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(beam.lattice.size()); ++k) {
+    const IVec<3> s = beam.lattice.coords(k);
+    if (beam.lattice.is_real(s))
+      beam.cells[k] = s[0] <= 2 ? CellType::DIRICHLET : CellType::INTERIOR;
+  }
+  return beam;
+}
+
+// sqrt(sum (a - b)^2) / sqrt(sum a^2) over the displacement fields of two hierarchies' solutions.
+template <typename A, typename B>
+double relative_displacement_difference(const A& a, const B& b) {
+  double difference = 0, norm = 0;
+  for (int f = 0; f < 3; ++f)
+    for (std::size_t k = 0; k < a.finest().size(); ++k) {
+      difference += std::pow(a.solution(f, k) - b.solution(f, k), 2);
+      norm += std::pow(a.solution(f, k), 2);
+    }
+  return std::sqrt(difference / norm);
+}
+
 // A smooth displacement made of one plane wave per component, u_i = A cos(k_i . x + phi_i),
 // with its exact stress P = mu (grad u + grad u^T) + lambda (div u) I and div P.
 template <int Dim>

@@ -107,14 +107,7 @@ TEST(MultigridSetup, SolutionLevelFromTheFinestCodesEqualsAFreshBuild) {
 // (traction boundaries half a coarse cell inside a body two cells thick), so the hierarchy stops
 // one level finer, which also converges faster (0.21 per cycle against 0.29).
 TEST(MultigridSetup, HierarchyStopsBeforeALevelOfMostlyBoundaryCells) {
-  ElasticityProblem<3> plate = make_box_problem<3>({.cells = 8, .poisson_ratio = 0.3});
-  plate.lattice = Lattice<3>(IVec<3>(64, 64, 8), 1.0 / 64);
-  plate.cells.assign(plate.lattice.size(), CellType::EXTERIOR);
-  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(plate.lattice.size()); ++k) {
-    const IVec<3> s = plate.lattice.coords(k);
-    if (plate.lattice.is_real(s))
-      plate.cells[k] = s[0] <= 2 ? CellType::DIRICHLET : CellType::INTERIOR;
-  }
+  const ElasticityProblem<3> plate = test::clamped_beam(IVec<3>(64, 64, 8));
   Multigrid<3, double> stopped(plate);
   Multigrid<3, double> deeper(plate, {.coarsest_max_boundary_fraction = 1.0});
   EXPECT_EQ(stopped.levels(), 2);
@@ -128,13 +121,7 @@ TEST(MultigridSetup, HierarchyStopsBeforeALevelOfMostlyBoundaryCells) {
 // cycle (a 256 x 26 x 26 cantilever: 2.2 s to factor, half of each cycle, half of the peak
 // memory). Such a level is coarsened once more, at a small cost in rate.
 TEST(MultigridSetup, SlenderBarCoarsensPastTheBoundaryRuleWhereTheDirectSolveWouldDominate) {
-  ElasticityProblem<3> bar = make_box_problem<3>({.cells = 8, .poisson_ratio = 0.3});
-  bar.lattice = Lattice<3>(IVec<3>(256, 24, 24), 1.0 / 256);
-  bar.cells.assign(bar.lattice.size(), CellType::EXTERIOR);
-  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(bar.lattice.size()); ++k) {
-    const IVec<3> s = bar.lattice.coords(k);
-    if (bar.lattice.is_real(s)) bar.cells[k] = s[0] <= 2 ? CellType::DIRICHLET : CellType::INTERIOR;
-  }
+  const ElasticityProblem<3> bar = test::clamped_beam(IVec<3>(256, 24, 24));
   Multigrid<3, double> deeper(bar);
   Multigrid<3, double> two_levels(bar, {.max_levels = 2});
   EXPECT_EQ(deeper.levels(), 3);
