@@ -110,10 +110,11 @@ class Extractor {
 
   // The signed distance on slab k, blocks of rows in parallel; the outermost layer is forced
   // outside. Narrow band: a block of kBlock x kBlock samples whose center lies farther than
-  // kFar + the block's radius from the surface holds only samples at least kFar away (the
-  // distance is 1-Lipschitz), which no surface crosses a cube of; such a block gets that bound
-  // with the center's sign instead of its own queries. Every corner of a cube the surface
-  // crosses is within sqrt(3) s of the crossing, so the mesh equals the full sampling's.
+  // `far` (kFarSpacings spacings) + the block's radius from the surface holds only samples at
+  // least `far` away (the distance is 1-Lipschitz), corners of no cube the surface crosses;
+  // such a block gets that bound with the center's sign instead of its own queries. Every corner of
+  // a cube the surface crosses is within sqrt(3) s of the crossing, so the mesh equals the full
+  // sampling's.
   void sample_slab(int k, std::vector<double>& slab) const {
     constexpr int kBlock = 8;
     const double far = kFarSpacings * m_lattice.spacing;
