@@ -192,7 +192,7 @@ class Multigrid {
   // residual after the solve; each entry after the first costs one cycle. Divergence: as solve,
   // the diagnosis from a checked replay of plain cycles from the same start. A tolerance below
   // the round-off floor of the solution's precision (the residual of x's own rounding, ~eps |A|
-  // |x|: 1.3e-10 relative for a tip-loaded cantilever at 192 cells in double) stops with
+  // |x|: 1.6e-10 relative for a tip-loaded cantilever at 256 cells in double) stops with
   // converged false, stalled true, once two restarts in a row reached the target by their
   // estimate but not by the true residual and did not halve it.
   SolveReport solve_accelerated(double relative_tolerance, int max_cycles, int restart = 10);
