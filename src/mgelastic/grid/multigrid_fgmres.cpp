@@ -117,28 +117,41 @@ void zero_interior(const InteriorVariables<Dim>& vars, std::array<FieldArray<T>,
   }
 }
 
-// While alive, the level's band rows have no constants (boundary stresses moved to the
-// right-hand side): the cycle then solves the homogeneous correction problem, a linear map of
-// its right-hand side. A level that holds the solution (one level in double precision) keeps
-// the traction loads there; with them the preconditioner was affine, B(v) = B_0 (v - c), and
-// for a tip-loaded cantilever |c| ~ 1e6 |v| made every preconditioned vector the same one.
+// Zeros for a level's band-row constants (boundary stresses moved to the right-hand side), swapped
+// in while a cycle must solve the homogeneous correction problem, a linear map of its right-hand
+// side. A level that holds the solution (one level in double precision) keeps the traction loads
+// there; with them the preconditioner was affine, B(v) = B_0 (v - c), and for a tip-loaded
+// cantilever |c| ~ 1e6 |v| made every preconditioned vector the same one. The zeros are made
+// once per solve; a Scope swaps them in and back in O(1).
 template <int Dim, typename Scalar>
 class HomogeneousBand {
  public:
-  explicit HomogeneousBand(Level<Dim, Scalar>& level) : m_level(level) { swap_all(); }
-  ~HomogeneousBand() { swap_all(); }
-  HomogeneousBand(const HomogeneousBand&) = delete;
-  HomogeneousBand& operator=(const HomogeneousBand&) = delete;
+  explicit HomogeneousBand(Level<Dim, Scalar>& level)
+      : m_level(level),
+        m_kernel(level.band_kernel.constant.size(), Scalar(0)),
+        m_pressure(level.band_p.constant.size(), Scalar(0)),
+        m_csr(level.band_u.constant.size(), Scalar(0)) {}
+
+  class Scope {
+   public:
+    explicit Scope(HomogeneousBand* band) : m_band(band) {
+      if (m_band) m_band->swap();
+    }
+    ~Scope() {
+      if (m_band) m_band->swap();
+    }
+    Scope(const Scope&) = delete;
+    Scope& operator=(const Scope&) = delete;
+
+   private:
+    HomogeneousBand* m_band;
+  };
 
  private:
-  void swap_all() {
-    swap_with_zeros(m_level.band_kernel.constant, m_kernel);
-    swap_with_zeros(m_level.band_p.constant, m_pressure);
-    swap_with_zeros(m_level.band_u.constant, m_csr);
-  }
-  static void swap_with_zeros(std::vector<Scalar>& constants, std::vector<Scalar>& zeros) {
-    if (zeros.size() != constants.size()) zeros.assign(constants.size(), Scalar(0));
-    constants.swap(zeros);
+  void swap() {
+    m_level.band_kernel.constant.swap(m_kernel);
+    m_level.band_p.constant.swap(m_pressure);
+    m_level.band_u.constant.swap(m_csr);
   }
   Level<Dim, Scalar>& m_level;
   std::vector<Scalar> m_kernel, m_pressure, m_csr;
@@ -281,11 +294,13 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
   // The cycles read only the interior values of the finest b (the scatter below writes all of
   // them) and do not write it: the rest is cleared once.
   zero_fields<Dim>(fine.b, fine.live);
+  std::optional<HomogeneousBand<Dim, Scalar>> homogeneous;
+  if (shared_level) homogeneous.emplace(fine);
   const auto apply_preconditioner = [&](const Eigen::VectorXd& v, ScalarVector& z) {
     zero_fields<Dim>(fine.x, fine.live);
     scatter(vars, v, fine.b);
-    std::optional<HomogeneousBand<Dim, Scalar>> homogeneous;
-    if (shared_level) homogeneous.emplace(fine);
+    const typename HomogeneousBand<Dim, Scalar>::Scope zero_constants(homogeneous ? &*homogeneous
+                                                                                  : nullptr);
     cycle_correction();
     gather(vars, fine.x, z);
   };
