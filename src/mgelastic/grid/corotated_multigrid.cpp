@@ -314,17 +314,22 @@ void CorotatedMultigrid<Dim>::build_level_system(int l) {
       throw Error("the co-rotated coarsest-level matrix is singular (a body without support?)");
     return;
   }
-  if (m_blocks[l]) {  // a refresh: the same rows exist, with new values
-    Blocks& blocks = *m_blocks[l];
-    block_inverses(m_rows[l], blocks.start, blocks.rows, blocks.inverse_start, blocks.inverse);
-    if (m_options.smoother == CorotatedSmoother::DISTRIBUTIVE)
-      m_interior[l] = std::make_unique<Interior>(Interior{{level, m_rows[l]}, {level, m_rows[l]}});
-    return;
-  }
+  if (!m_blocks[l]) build_block_structure(l);  // a refresh keeps the rows, with new values
+  Blocks& blocks = *m_blocks[l];
+  block_inverses(m_rows[l], blocks.start, blocks.rows, blocks.inverse_start, blocks.inverse);
+  if (m_options.smoother == CorotatedSmoother::DISTRIBUTIVE)
+    m_interior[l] = std::make_unique<Interior>(Interior{{level, m_rows[l]}, {level, m_rows[l]}});
+}
+
+// The box smoother's blocks, their relocated and band subsets and colored schedules: which rows
+// exist does not depend on R (the rows keep one pattern for every R, corotated_operator.cpp), so
+// this is built once per level.
+template <int Dim>
+void CorotatedMultigrid<Dim>::build_block_structure(int l) {
+  const auto& level = m_multigrid.level(l);
   m_blocks[l] = std::make_unique<Blocks>();
   Blocks* blocks = m_blocks[l].get();
   build_blocks(level, m_rows[l], blocks->start, blocks->rows, blocks->cell, blocks->inverse_start);
-  block_inverses(m_rows[l], blocks->start, blocks->rows, blocks->inverse_start, blocks->inverse);
   std::vector<std::uint8_t> marked(m_rows[l].rows(), 0);
   for (const auto* set : {&level.pre_restriction_rows, &level.post_prolongation_rows})
     for (std::uint32_t m : *set) {
@@ -347,11 +352,8 @@ void CorotatedMultigrid<Dim>::build_level_system(int l) {
           break;
         }
       }
-    m_interior[l] = std::make_unique<Interior>(Interior{{level, m_rows[l]}, {level, m_rows[l]}});
   }
   using Schedule = typename Blocks::Schedule;
-  // The rows keep one pattern for every R (corotated_operator.cpp), so the reach measured now
-  // holds for every refresh.
   const IVec<Dim> zone = zone_size(row_reach(level, m_rows[l]));
   const auto& cells = blocks->cell;
   blocks->schedule[0] = zone_schedule<Dim, Schedule>(level.lattice, cells, nullptr, zone);

@@ -183,6 +183,7 @@ class CorotatedMultigrid {
   enum class Attempt { CONVERGED, STALLED, DIVERGED };
   Attempt solve_increment(double initial, double target, int max_cycles, CorotatedReport& report);
   void build_level_system(int l);
+  void build_block_structure(int l);
   void refresh_levels();
   void refresh_rotations_when_due();
   // One cycle of solve(): refreshes with the rows of the last non-linear residual when due.
