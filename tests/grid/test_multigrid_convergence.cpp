@@ -289,6 +289,38 @@ TEST(MultigridSolve, AcceleratedSolveMatchesPlainCycles) {
   EXPECT_TRUE(single.solve_accelerated(1e-8, 60).converged);
 }
 
+// Mixed precision keeps its Krylov basis in float (krylov_workspace.hpp): the restarts' true
+// residuals in double absorb the basis' rounding, so a tight tolerance takes the cycles of the
+// all-double solve, and the kept vectors take 4 doubles, 2 x restart + 1 floats and a 32-bit
+// point per interior variable (before: 5 doubles + restart + 1 double basis vectors).
+TEST(MultigridSolve, FloatKrylovBasisNeedsTheCyclesOfADoubleOne) {
+  BoxSpec spec;
+  spec.cells = 24;
+  spec.poisson_ratio = 0.48;
+  constexpr int kRestart = 6;  // restarts happen before the tolerance
+  Multigrid<3, double> all_double(make_box_problem<3>(spec));
+  const SolveReport reference = all_double.solve_accelerated(1e-10, 80, kRestart);
+  Multigrid<3, float> mixed(make_box_problem<3>(spec));
+  const SolveReport report = mixed.solve_accelerated(1e-10, 80, kRestart);
+  ASSERT_TRUE(reference.converged && report.converged);
+  ASSERT_GT(report.cycles(), kRestart);
+  EXPECT_LE(report.cycles(), reference.cycles() + 1);
+  EXPECT_LE(test::relative_displacement_difference(all_double, mixed), 1e-8);
+
+  std::size_t kept = 0;
+  for (const ByteShare& share : mixed.byte_breakdown())
+    if (share.name == "accelerated solve's vectors (kept)") kept = share.bytes;
+  std::size_t interior = 0;
+  const Level<3, double>& s = mixed.solution_level();
+  for (int f = 0; f <= 3; ++f)
+    for (std::size_t k = 0; k < s.size(); ++k) interior += s.kind(f, k) == VarKind::INTERIOR;
+  ASSERT_GT(interior, 0u);
+  const double per_variable = static_cast<double>(kept) / static_cast<double>(interior);
+  // The points' vectors may hold up to twice their size (push_back).
+  EXPECT_GE(per_variable, 4 * 8 + (2 * kRestart + 1) * 4 + 4);
+  EXPECT_LE(per_variable, 4 * 8 + (2 * kRestart + 1) * 4 + 8);
+}
+
 // In double precision one level holds the solution and runs the cycles; its band rows carry the
 // traction loads as constants. The preconditioning cycle must leave them out: with them it was
 // affine, its vectors dominated by the loads' part (the Krylov vectors are unit vectors), and

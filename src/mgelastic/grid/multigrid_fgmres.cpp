@@ -117,6 +117,23 @@ void zero_interior(const InteriorVariables<Dim>& vars, std::array<FieldArray<T>,
   }
 }
 
+// w = (origin - the interior values of `fields`) * inverse: an operator product from the residual
+// fields (one pass, no gathered copy of them).
+template <int Dim>
+void difference_into(const InteriorVariables<Dim>& vars, const Eigen::VectorXd& origin,
+                     const std::array<FieldArray<double>, Dim + 1>& fields, double inverse,
+                     Eigen::VectorXd& w) {
+  for (int f = 0; f <= Dim; ++f) {
+    const double* from = fields[f].data();
+    const std::uint32_t* points = vars.points[f].data();
+    const double* o = origin.data() + vars.offset[f];
+    double* to = w.data() + vars.offset[f];
+    const auto count = static_cast<std::ptrdiff_t>(vars.points[f].size());
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < count; ++i) to[i] = (o[i] - from[points[i]]) * inverse;
+  }
+}
+
 // Zeros for a level's band-row constants (boundary stresses moved to the right-hand side), swapped
 // in while a cycle must solve the homogeneous correction problem, a linear map of its right-hand
 // side. A level that holds the solution (one level in double precision) keeps the traction loads
@@ -177,13 +194,19 @@ Eigen::Matrix<V, Eigen::Dynamic, 1>& sized(Eigen::Matrix<V, Eigen::Dynamic, 1>& 
 // Blocked so that the sums do not depend on the thread count.
 constexpr std::ptrdiff_t kDotBlock = std::ptrdiff_t{1} << 14;
 
-double dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+// a . b in double (b: a double or a float basis vector).
+template <typename V>
+double dot(const Eigen::VectorXd& a, const Eigen::Matrix<V, Eigen::Dynamic, 1>& b) {
   const std::ptrdiff_t n = a.size(), blocks = (n + kDotBlock - 1) / kDotBlock;
   std::vector<double> partial(static_cast<std::size_t>(blocks));
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t q = 0; q < blocks; ++q) {
     const std::ptrdiff_t lo = q * kDotBlock, count = std::min(kDotBlock, n - lo);
-    partial[static_cast<std::size_t>(q)] = a.segment(lo, count).dot(b.segment(lo, count));
+    if constexpr (std::is_same_v<V, double>)
+      partial[static_cast<std::size_t>(q)] = a.segment(lo, count).dot(b.segment(lo, count));
+    else
+      partial[static_cast<std::size_t>(q)] =
+          a.segment(lo, count).dot(b.segment(lo, count).template cast<double>());
   }
   double sum = 0;
   for (double p : partial) sum += p;
@@ -242,7 +265,6 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
   const InteriorVariables<Dim>& vars = work.vars;
   Eigen::VectorXd& x = sized(work.x, vars.size());
   gather(vars, s.x, x);
-  Eigen::VectorXd& residual = sized(work.residual, vars.size());
   const auto residual_into = [&](Eigen::VectorXd& out) {
     compute_residual(s);
     gather(vars, s.r, out);
@@ -282,21 +304,15 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
   const auto apply_operator = [&](const ScalarVector& z, Eigen::VectorXd& w) {
     if (shared_level) clear_shared();
     scatter(vars, z, s.x, scale);
-    residual_into(residual);
-    const std::ptrdiff_t n = w.size();
-    const double inverse = 1.0 / scale;  // exact: a power of two
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t lo = 0; lo < n; lo += kDotBlock) {
-      const std::ptrdiff_t count = std::min(kDotBlock, n - lo);
-      w.segment(lo, count) = (r_zero.segment(lo, count) - residual.segment(lo, count)) * inverse;
-    }
+    compute_residual(s);
+    difference_into(vars, r_zero, s.r, 1.0 / scale, w);  // 1 / scale: exact, a power of two
   };
   // The cycles read only the interior values of the finest b (the scatter below writes all of
   // them) and do not write it: the rest is cleared once.
   zero_fields<Dim>(fine.b, fine.live);
   std::optional<HomogeneousBand<Dim, Scalar>> homogeneous;
   if (shared_level) homogeneous.emplace(fine);
-  const auto apply_preconditioner = [&](const Eigen::VectorXd& v, ScalarVector& z) {
+  const auto apply_preconditioner = [&](const ScalarVector& v, ScalarVector& z) {
     zero_fields<Dim>(fine.x, fine.live);
     scatter(vars, v, fine.b);
     const typename HomogeneousBand<Dim, Scalar>::Scope zero_constants(homogeneous ? &*homogeneous
@@ -318,10 +334,11 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
     fail_diverged("the accelerated solve (FGMRES) at cycle " + std::to_string(report.cycles()),
                   reason, report.residuals, start);
   };
-  // The Krylov basis, in double, and its preconditioned vectors, as the cycle returns them (in
-  // the hierarchy's precision: exact, and half the bytes of a double in mixed precision).
-  std::vector<Eigen::VectorXd>& v = work.v;
+  // The Krylov basis and its preconditioned vectors in the hierarchy's precision
+  // (krylov_workspace.hpp); the vector being orthogonalized in double.
+  std::vector<ScalarVector>& v = work.v;
   std::vector<ScalarVector>& z = work.z;
+  Eigen::VectorXd& w = sized(work.w, vars.size());
   v.reserve(static_cast<std::size_t>(restart) + 1);  // references into them stay valid
   z.reserve(static_cast<std::size_t>(restart));
   const auto slot = [&](auto& list, int i) -> auto& {
@@ -339,8 +356,7 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
   int stalled_restarts = 0;
   while (cycles < max_cycles && r_norm > target) {
     const int m = std::min(restart, max_cycles - cycles);
-    slot(v, 0) = r;
-    slot(v, 0) /= r_norm;
+    slot(v, 0) = (r / r_norm).template cast<Scalar>();
     operator_origin();
     Eigen::MatrixXd h = Eigen::MatrixXd::Zero(m + 1, m);
     Eigen::VectorXd g = Eigen::VectorXd::Zero(m + 1), cs = Eigen::VectorXd::Zero(m),
@@ -356,7 +372,6 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
         throw;
       }
       apply_preconditioner(v[j], slot(z, j));
-      Eigen::VectorXd& w = slot(v, j + 1);
       apply_operator(z[j], w);
       ++cycles;
       for (int i = 0; i <= j; ++i) {  // modified Gram-Schmidt
@@ -384,7 +399,7 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
         ++j;
         break;
       }
-      w /= beta;
+      slot(v, j + 1) = (w / beta).template cast<Scalar>();
     }
     // The Givens rotations left the upper triangle in h (last rotated column included).
     const Eigen::VectorXd y = h.topLeftCorner(j, j).triangularView<Eigen::Upper>().solve(g.head(j));
