@@ -74,6 +74,49 @@ TEST(Voxelization, SkippedSampleQueriesKeepTheDefinitionsOccupancy) {
   }
 }
 
+// A closed mesh's cells off its surface take the side of their piece of space, one winding
+// number query per piece (Shape::closed_surface); the occupancy is still the definition's.
+// Large triangles whose bounding boxes span the lattice (a rotated box of 12 triangles), a
+// torus-like cavity (a box inside a box, inside-out: two pieces inside), small triangles of the
+// shared meshes at a finer lattice than above; a mesh with a hole keeps the distance walk.
+TEST(Voxelization, ClosedMeshesDecideCellsOffTheSurfaceByPiece) {
+  TriangleMesh rotated = test::make_box_mesh(Point(-0.5, -0.3, -0.2), Point(0.5, 0.3, 0.2), 1);
+  const Eigen::Matrix3d turn =
+      (Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized())).toRotationMatrix();
+  rotated.vertices = rotated.vertices * turn.transpose();
+  const ShapePtr box = make_mesh_shape(rotated, "rotated box");
+  ASSERT_NE(box->closed_surface(), nullptr);
+  EXPECT_EQ(box->closed_surface()->size(), 12u);
+  for (int n : {17, 40}) expect_reference_occupancy(*box, n, "rotated box at " + std::to_string(n));
+
+  // A hollow box: the outer surface, and an inner one facing inwards (the cavity is outside).
+  TriangleMesh outer = test::make_box_mesh(Point(0, 0, 0), Point(1, 1, 1), 2);
+  TriangleMesh inner = test::make_box_mesh(Point(0.3, 0.3, 0.3), Point(0.7, 0.7, 0.7), 2);
+  const Eigen::Index offset = outer.vertices.rows();
+  TriangleMesh hollow;
+  hollow.vertices.resize(offset + inner.vertices.rows(), 3);
+  hollow.vertices << outer.vertices, inner.vertices;
+  hollow.triangles.resize(outer.triangles.rows() + inner.triangles.rows(), 3);
+  hollow.triangles << outer.triangles, inner.triangles.rowwise().reverse().array() + offset;
+  const ShapePtr shell = make_mesh_shape(hollow, "hollow box");
+  ASSERT_NE(shell->closed_surface(), nullptr);
+  expect_reference_occupancy(*shell, 23, "hollow box");
+
+  const ShapePtr open =
+      make_mesh_shape(test::remove_triangles(test::make_icosphere(3), {5}), "sphere with a hole");
+  EXPECT_EQ(open->closed_surface(), nullptr);
+  expect_reference_occupancy(*open, 20, "sphere with a hole");
+
+  const std::filesystem::path dir = test::data_dir();
+  if (dir.empty()) return;
+  for (const char* file : {"armadillo.obj", "bunny.off"}) {
+    ASSERT_TRUE(std::filesystem::exists(dir / file)) << dir / file << " is missing";
+    const ShapePtr mesh = load_mesh_shape(dir / file);
+    ASSERT_NE(mesh->closed_surface(), nullptr) << file;
+    expect_reference_occupancy(*mesh, 40, file);
+  }
+}
+
 double occupied_volume(const VoxelGrid& grid) {
   double count = 0;
   for (auto c : grid.occupied) count += c;

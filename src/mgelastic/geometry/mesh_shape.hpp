@@ -44,6 +44,10 @@ class MeshShape : public Shape {
   double signed_distance_near(const Point& p, const Point& q, double known) const override;
   bool contains(const Point& p) const override { return winding_number(p) > 0.5; }
   BoundingBox bounding_box() const override { return m_facts.bounding_box; }
+  // The (reordered) triangles where the mesh is closed, edge-manifold and consistently oriented.
+  const std::vector<Triangle>* closed_surface() const override {
+    return m_sides_constant ? &m_bvh->triangles() : nullptr;
+  }
 
   double winding_number(const Point& p) const { return (*m_winding)(p); }
   double unsigned_distance(const Point& p) const;

@@ -80,6 +80,43 @@ bool full_block(const CellCoords<Dim>& dims, const std::vector<std::uint8_t>& oc
   return true;
 }
 
+// Gives `label` to the face-connected piece of occupied, unlabeled cells around `seed`, run by
+// run along x (the stack holds a seed per run of the piece's frontier, and no coordinates are
+// divided out of flat indices).
+template <int Dim>
+void label_piece(const CellCoords<Dim>& dims, const std::vector<std::uint8_t>& occupied,
+                 const CellCoords<Dim>& seed, std::uint32_t label,
+                 std::vector<std::uint32_t>& piece) {
+  constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+  const auto open = [&](std::size_t k) { return occupied[k] && piece[k] == none; };
+  std::vector<CellCoords<Dim>> stack{seed};
+  while (!stack.empty()) {
+    CellCoords<Dim> c = stack.back();
+    stack.pop_back();
+    const std::size_t k = flat<Dim>(dims, c);
+    if (!open(k)) continue;
+    int lo = c[0], hi = c[0];
+    while (lo > 0 && open(k - static_cast<std::size_t>(c[0] - lo + 1))) --lo;
+    while (hi + 1 < dims[0] && open(k + static_cast<std::size_t>(hi + 1 - c[0]))) ++hi;
+    const std::size_t row = k - static_cast<std::size_t>(c[0]);
+    for (int i = lo; i <= hi; ++i) piece[row + static_cast<std::size_t>(i)] = label;
+    for (int a = 1; a < Dim; ++a)
+      for (int sign : {-1, 1}) {
+        CellCoords<Dim> t = c;
+        t[a] += sign;
+        if (t[a] < 0 || t[a] >= dims[a]) continue;
+        t[0] = 0;
+        const std::size_t base = flat<Dim>(dims, t);
+        for (int i = lo; i <= hi; ++i)
+          if (open(base + static_cast<std::size_t>(i)) &&
+              (i == lo || !open(base + static_cast<std::size_t>(i) - 1))) {
+            t[0] = i;
+            stack.push_back(t);
+          }
+      }
+  }
+}
+
 // Calls visit(k, c) for every cell of a box of `dims` in storage order (x fastest), its
 // coordinates counted along instead of divided out of k (unflat's divisions made the passes
 // over every block position of a 256-cell lattice a good part of the voxelization).
@@ -113,24 +150,27 @@ int thicken_to_full_blocks(const CellCoords<Dim>& dims, std::vector<std::uint8_t
   for (int q = 0; q < cells_per_block; ++q)
     for (int a = 0, rest = q; a < Dim; ++a) offsets[q][a] = rest % size, rest /= size;
   const auto offset = [&](int q) { return offsets[static_cast<std::size_t>(q)]; };
+  // The same offsets in storage order: a block's cells are its corner's index plus these.
+  std::vector<std::size_t> shift(offsets.size());
+  for (std::size_t q = 0; q < offsets.size(); ++q) shift[q] = d::flat<Dim>(dims, offsets[q]);
   int added = 0;
   d::for_each_cell<Dim>(dims, [&](std::size_t k, const CellCoords<Dim>& cell) {
     if (!occupied[k]) return;
-    CellCoords<Dim> best = CellCoords<Dim>::Constant(-1);
+    std::size_t best = 0;
     int best_count = -1;
     bool full = false;
     for (int b = 0; b < cells_per_block && !full; ++b) {
       const CellCoords<Dim> corner = cell - offset(b);
       if ((corner.array() < 0).any() || (corner.array() + size > dims.array()).any()) continue;
+      const std::size_t first = k - shift[static_cast<std::size_t>(b)];
       int count = 0;
-      for (int q = 0; q < cells_per_block; ++q)
-        count += occupied[d::flat<Dim>(dims, CellCoords<Dim>(corner + offset(q)))] != 0;
+      for (const std::size_t s : shift) count += occupied[first + s] != 0;
       full = count == cells_per_block;
-      if (count > best_count) best_count = count, best = corner;
+      if (count > best_count) best_count = count, best = first;
     }
     if (full || best_count < 0) return;
-    for (int q = 0; q < cells_per_block; ++q) {
-      std::uint8_t& o = occupied[d::flat<Dim>(dims, CellCoords<Dim>(best + offset(q)))];
+    for (const std::size_t s : shift) {
+      std::uint8_t& o = occupied[best + s];
       added += o == 0;
       o = 1;
     }
@@ -154,27 +194,12 @@ int connect_full_blocks(const CellCoords<Dim>& dims, std::vector<std::uint8_t>& 
   const CellCoords<Dim> m = dims.array() - 1;  // block positions (lower corners) per axis
   const std::size_t blocks = static_cast<std::size_t>(m.prod());
 
-  // Face-connected pieces of the occupied set.
+  // Face-connected pieces of the occupied set, numbered by their first cell in storage order.
   std::vector<std::uint32_t> piece(occupied.size(), none);
   std::uint32_t pieces = 0;
-  for (std::size_t start = 0; start < occupied.size(); ++start) {
-    if (!occupied[start] || piece[start] != none) continue;
-    std::vector<std::size_t> stack{start};
-    piece[start] = pieces;
-    while (!stack.empty()) {
-      const CellCoords<Dim> c = d::unflat<Dim>(dims, stack.back());
-      stack.pop_back();
-      for (int a = 0; a < Dim; ++a)
-        for (int sign : {-1, 1}) {
-          CellCoords<Dim> t = c;
-          t[a] += sign;
-          if (!d::inside<Dim>(dims, t)) continue;
-          const std::size_t q = d::flat<Dim>(dims, t);
-          if (occupied[q] && piece[q] == none) piece[q] = pieces, stack.push_back(q);
-        }
-    }
-    ++pieces;
-  }
+  d::for_each_cell<Dim>(dims, [&](std::size_t k, const CellCoords<Dim>& c) {
+    if (occupied[k] && piece[k] == none) d::label_piece<Dim>(dims, occupied, c, pieces++, piece);
+  });
   const auto piece_of_block = [&](std::size_t q) {
     return piece[d::flat<Dim>(dims, d::unflat<Dim>(m, q))];
   };
@@ -227,10 +252,25 @@ int connect_full_blocks(const CellCoords<Dim>& dims, std::vector<std::uint8_t>& 
     previous.assign(blocks, none);
     using Entry = std::pair<int, std::uint32_t>;
     std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+    // A seed whose neighbors are all full blocks of its union relaxes nothing when popped
+    // (they are seeds too, at cost 0, before the first pop): it is not queued (most of a
+    // union's blocks; the queue's order, and so the result, are the same).
     const auto seed = [&](std::uint32_t q) {
       cost[q] = 0;
       previous[q] = none;
-      queue.emplace(0, q);
+      const CellCoords<Dim> b = d::unflat<Dim>(m, q);
+      const std::uint32_t own = find(q);
+      for (int a = 0; a < Dim; ++a)
+        for (int sign : {-1, 1}) {
+          CellCoords<Dim> c = b;
+          c[a] += sign;
+          if (!d::inside<Dim>(m, c)) continue;
+          const auto qc = static_cast<std::uint32_t>(d::flat<Dim>(m, c));
+          if (!full[qc] || find(qc) != own) {
+            queue.emplace(0, q);
+            return;
+          }
+        }
     };
     for (std::uint32_t q : members.at(largest[p])) seed(q);
     std::uint32_t root = find(largest[p]);

@@ -3,7 +3,9 @@
 // closed triangle meshes. Signed distance is negative inside.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <memory>
+#include <vector>
 
 namespace mgelastic::geometry {
 
@@ -25,6 +27,11 @@ class Shape {
   virtual bool contains(const Point& p) const { return signed_distance(p) <= 0.0; }
   // A box containing the whole region.
   virtual BoundingBox bounding_box() const = 0;
+  // The triangles of a closed surface that bounds the region, when the region has one:
+  // contains() is then constant on every connected piece of space off the triangles, so one
+  // query decides a whole piece (the voxelization's cells away from the surface). Null for
+  // primitives, CSG and meshes with holes, non-manifold or misoriented edges.
+  virtual const std::vector<std::array<Point, 3>>* closed_surface() const { return nullptr; }
 };
 
 using ShapePtr = std::shared_ptr<const Shape>;
