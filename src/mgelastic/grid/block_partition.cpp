@@ -11,7 +11,7 @@ IVec<2> default_block_size<2>(const Lattice<2>&) {
 
 // Long x-rows: the sweeps stream each block row by row, and at 128^3 rows of 16 cells (one
 // cache line per field) left the hardware prefetchers idle; 64 made the distributive and band
-// sweeps about 1.8x and 1.4x cheaper at the same convergence rate (docs/performance.md), whole
+// sweeps about 1.8x and 1.4x cheaper at the same convergence rate (docs/notes/2026-12-07-performance-history.md), whole
 // rows of 128 the distributive sweep another 12-22 % (128^3 box, armadillo at 256 cells) and of
 // 256 another 22 % (256^3 box), at the same rates. Whole rows make a block's rows of one layer one
 // stretch of memory, and 16 of them (128^3) cut the cycle another 9 %. So a block takes whole
