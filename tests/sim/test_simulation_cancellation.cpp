@@ -166,9 +166,12 @@ INSTANTIATE_TEST_SUITE_P(
 // A request from another thread (as a signal handler's) stops a long solve within a cycle: the
 // step throws before it ran all the cycles it would have.
 TEST(Simulation, CancellationFromAnotherThreadStopsTheSolve) {
-  scene::Scene s = bar({.name = "long", .engine = "grid", .accelerate = false});
-  s.tolerance = 1e-30;  // unreachable: every step runs max_vcycles cycles
-  s.max_vcycles = 100;
+  scene::Scene s =
+      bar({.name = "long", .engine = "grid", .quasistatic = false, .accelerate = false});
+  // A frame of exactly 100 cycles: fixed cycle counts run every cycle (a tolerance below the
+  // round-off floor would stop at the floor).
+  s.time.substeps = 25;
+  s.time.vcycles_per_step = 4;
   Simulation simulation(s);
   const std::uint64_t start = cancellation_checks();
   std::uint64_t used = 0;

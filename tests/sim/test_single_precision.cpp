@@ -92,8 +92,29 @@ TEST(SinglePrecision, UnreachableToleranceStopsWhereTheResidualStalls) {
   EXPECT_LT(step.relative_residual, float_roundoff(kCells));
 }
 
+// Plain cycles in mixed and double precision stop the same way at double's round-off floor (the
+// residual of x's own rounding, ~1e-14 relative on this small cube), instead of running every
+// cycle up to max_vcycles; a reachable tolerance converges without a stall.
+TEST(SinglePrecision, PlainCyclesStopAtDoublesRoundOffFloorToo) {
+  for (const std::string precision : {"float", "double"}) {
+    nlohmann::json document = cube(precision, 1e-30);
+    document["solver"]["accelerate"] = false;
+    document["solver"]["max_vcycles"] = 200;
+    Simulation s(make(document));
+    const StepStats& step = s.step().step_stats.front();
+    EXPECT_FALSE(step.converged) << precision;
+    EXPECT_TRUE(step.stalled) << precision;
+    EXPECT_LT(step.cycles, 60) << precision;
+    EXPECT_LT(step.relative_residual, 1e-11) << precision;  // far below float round-off
+    document["solver"]["tolerance"] = 1e-10;
+    const StepStats reachable = Simulation(make(document)).step().step_stats.front();
+    EXPECT_TRUE(reachable.converged) << precision;
+    EXPECT_FALSE(reachable.stalled) << precision;
+  }
+}
+
 TEST(SinglePrecision, MixedPrecisionReachesTheSameToleranceWithoutStalling) {
-  const FrameStats& stats = Simulation(make(cube("float", 1e-9))).step();
+  const FrameStats stats = Simulation(make(cube("float", 1e-9))).step();
   EXPECT_TRUE(stats.converged);
   EXPECT_FALSE(stats.step_stats.front().stalled);
 }

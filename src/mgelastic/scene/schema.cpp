@@ -166,8 +166,8 @@ Field build_schema() {
       {number("tolerance",
               "Relative residual to reach. Below the round-off floor of the solution's precision "
               "(the residual of x's own rounding, growing with the resolution: ~1e-10 for a "
-              "slender bar at 256 cells in double) an accelerated or single-precision solve stops "
-              "as stalled, not at the cycle limit",
+              "slender bar at 256 cells in double) a solve stops as stalled, not at the cycle "
+              "limit (fixed time.vcycles_per_step run every cycle)",
               "", 1e-6, 0.0, true, 1.0, true),
        integer("max_vcycles", "Cycle limit", 50, 1),
        choice("precision",
