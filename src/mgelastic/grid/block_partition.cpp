@@ -11,10 +11,11 @@ IVec<2> default_block_size<2>(const Lattice<2>&) {
 
 // Long x-rows: the sweeps stream each block row by row, and at 128^3 rows of 16 cells (one
 // cache line per field) left the hardware prefetchers idle; 64 made the distributive and band
-// sweeps about 1.8x and 1.4x cheaper at the same convergence rate (docs/notes/2026-12-07-performance-history.md), whole
-// rows of 128 the distributive sweep another 12-22 % (128^3 box, armadillo at 256 cells) and of
-// 256 another 22 % (256^3 box), at the same rates. Whole rows make a block's rows of one layer one
-// stretch of memory, and 16 of them (128^3) cut the cycle another 9 %. So a block takes whole
+// sweeps about 1.8x and 1.4x cheaper at the same convergence rate
+// (docs/notes/2026-12-07-performance-history.md), whole rows of 128 the distributive sweep
+// another 12-22 % (128^3 box, armadillo at 256 cells) and of 256 another 22 % (256^3 box), at
+// the same rates. Whole rows make a block's rows of one layer one stretch of memory, and 16 of
+// them (128^3) cut the cycle another 9 %. So a block takes whole
 // lattice rows (up to kMaxBlockRow, which keeps blocks for many threads), as many rows along y
 // (4 to 16) as make a layer about kLayerCells, and 8 layers along z (fewer where that passes
 // kBlockCells, whose fields stay in a core's L2 cache through the sweep's four passes). Thin

@@ -13,9 +13,9 @@
 //
 // The deflate encoder is libdeflate when the build found it (MGELASTIC_HAVE_LIBDEFLATE; level 1),
 // zlib level 1 with Z_RLE otherwise. On the 256^3 frame of `mgelastic bench vtk`, libdeflate is
-// 1.3x as fast as zlib Z_RLE (2.9x zlib level 1) for a 2 % larger file (docs/notes/2026-12-07-performance-history.md).
-// Both write standard zlib streams, so readers see no difference, but the bytes differ between
-// the two builds.
+// 1.3x as fast as zlib Z_RLE (2.9x zlib level 1) for a 2 % larger file
+// (docs/notes/2026-12-07-performance-history.md). Both write standard zlib streams, so readers
+// see no difference, but the bytes differ between the two builds.
 #include <cstddef>
 #include <functional>
 #include <span>
