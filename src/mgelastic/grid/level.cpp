@@ -510,27 +510,34 @@ double row_coefficient(const SparseRows<Scalar>& rows, std::uint32_t m, std::uin
 
 // One block per eliminated cell: its band faces, with the inverse of their Schur block
 //   S_loc[f][g] = A_fg - G_fc G_gc / D_c (f != g),  S_loc[f][f] = Schur diagonal of row f.
+// The blocks are formed in parallel, chunk by chunk, and registered in cell order (identical
+// inverses shared by their exact bytes), so the result does not depend on the thread count.
 template <int Dim, typename Scalar>
 void build_band_blocks(Level<Dim, Scalar>& level) {
   const auto n = static_cast<std::ptrdiff_t>(level.size());
   const auto row_of = rows_by_target(level.band_u);
   std::vector<std::uint8_t> in_block(level.band_u.rows(), 0);
   constexpr int B = 2 * Dim;
-  std::unordered_map<std::string, std::uint32_t> inverse_ids;  // by the inverse's exact bytes
-  for (std::size_t e = 0; e < level.band_p.rows(); ++e) {
-    const std::ptrdiff_t c = level.band_p.target[e] % n;
+  struct Block {
     std::array<std::uint32_t, B> rows;
-    rows.fill(UINT32_MAX);
+    std::array<Scalar, B * B> inverse;
     int count = 0;
-    for (int i = 0; i < Dim; ++i) {
+  };
+  // The block of eliminated cell e (count < 2: none).
+  const auto form = [&](std::size_t e) {
+    Block block;
+    const std::ptrdiff_t c = level.band_p.target[e] % n;
+    block.rows.fill(UINT32_MAX);
+    for (int i = 0; i < Dim; ++i)
       for (std::ptrdiff_t face : {c, c + level.lattice.stride(i)}) {
         const auto it = row_of.find(level.global(i, face));
-        if (it != row_of.end()) rows[count++] = it->second;
+        if (it != row_of.end()) block.rows[block.count++] = it->second;
       }
-    }
-    if (count < 2) continue;
+    const int count = block.count;
+    if (count < 2) return block;
+    const auto& rows = block.rows;
     const std::uint32_t pc = level.band_p.target[e];
-    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic> s(count, count);
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, B, B> s(count, count);
     for (int a = 0; a < count; ++a) {
       for (int b = 0; b < count; ++b) {
         if (a == b) {
@@ -545,21 +552,35 @@ void build_band_blocks(Level<Dim, Scalar>& level) {
       }
     }
     // S_loc is a principal block of the symmetric negative definite Schur complement.
-    const Eigen::MatrixXd inverse = s.inverse();
-    std::array<Scalar, B * B> entries;
+    const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, B, B> inverse = s.inverse();
     for (int a = 0; a < B; ++a)
       for (int b = 0; b < B; ++b)
-        entries[a * B + b] =
+        block.inverse[a * B + b] =
             a < count && b < count ? static_cast<Scalar>(inverse(a, b)) : Scalar(0);
-    const std::string key(reinterpret_cast<const char*>(entries.data()), sizeof entries);
-    const auto [it, added] =
-        inverse_ids.try_emplace(key, static_cast<std::uint32_t>(inverse_ids.size()));
-    if (added)
-      level.band_block_inverse.insert(level.band_block_inverse.end(), entries.begin(),
-                                      entries.end());
-    level.band_block_inverse_id.push_back(it->second);
-    for (int a = 0; a < count; ++a) in_block[rows[a]] = 1;
-    level.band_blocks.push_back(rows);
+    return block;
+  };
+  std::unordered_map<std::string, std::uint32_t> inverse_ids;  // by the inverse's exact bytes
+  constexpr std::size_t kChunk = std::size_t{1} << 16;         // bounds the formed blocks held
+  std::vector<Block> chunk;
+  for (std::size_t first = 0; first < level.band_p.rows(); first += kChunk) {
+    const std::size_t count = std::min(kChunk, level.band_p.rows() - first);
+    chunk.resize(count);
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::ptrdiff_t q = 0; q < static_cast<std::ptrdiff_t>(count); ++q)
+      chunk[static_cast<std::size_t>(q)] = form(first + static_cast<std::size_t>(q));
+    for (const Block& block : chunk) {
+      if (block.count < 2) continue;
+      const std::string key(reinterpret_cast<const char*>(block.inverse.data()),
+                            sizeof block.inverse);
+      const auto [it, added] =
+          inverse_ids.try_emplace(key, static_cast<std::uint32_t>(inverse_ids.size()));
+      if (added)
+        level.band_block_inverse.insert(level.band_block_inverse.end(), block.inverse.begin(),
+                                        block.inverse.end());
+      level.band_block_inverse_id.push_back(it->second);
+      for (int a = 0; a < block.count; ++a) in_block[block.rows[a]] = 1;
+      level.band_blocks.push_back(block.rows);
+    }
   }
   for (std::uint32_t m = 0; m < level.band_u.rows(); ++m)
     if (!in_block[m]) level.band_point_rows.push_back(m);
