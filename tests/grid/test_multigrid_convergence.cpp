@@ -228,9 +228,7 @@ TEST(MultigridSolve, SinglePrecisionStopsWhereRoundOffStallsTheResidual) {
 // says why, after the residual had fallen as far as it can. A reachable tolerance on the same
 // problem converges without a stall.
 TEST(MultigridSolve, AcceleratedSolveStopsAtTheRoundOffFloor) {
-  BoxSpec spec;
-  spec.cells = 16;
-  spec.poisson_ratio = 0.45;
+  const BoxSpec spec{.cells = 16, .poisson_ratio = 0.45};
   Multigrid<3, double> mg(make_box_problem<3>(spec));
   const SolveReport r = mg.solve_accelerated(1e-18, 200);
   EXPECT_FALSE(r.converged);
@@ -294,9 +292,7 @@ TEST(MultigridSolve, AcceleratedSolveMatchesPlainCycles) {
 // all-double solve, and the kept vectors take 4 doubles, 2 x restart + 1 floats and a 32-bit
 // point per interior variable (before: 5 doubles + restart + 1 double basis vectors).
 TEST(MultigridSolve, FloatKrylovBasisNeedsTheCyclesOfADoubleOne) {
-  BoxSpec spec;
-  spec.cells = 24;
-  spec.poisson_ratio = 0.48;
+  const BoxSpec spec{.cells = 24, .poisson_ratio = 0.48};
   constexpr int kRestart = 6;  // restarts happen before the tolerance
   Multigrid<3, double> all_double(make_box_problem<3>(spec));
   const SolveReport reference = all_double.solve_accelerated(1e-10, 80, kRestart);

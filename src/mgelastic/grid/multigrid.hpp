@@ -183,7 +183,8 @@ class Multigrid {
   // stall_cycles > 0: also stops (converged false, stalled true) after that many consecutive
   // cycles that do not lower the smallest residual after a cycle (StallWatch: the initial
   // residual does not count, a first cycle may raise it). A slow but converging solve sets a
-  // new minimum every cycle; only a residual at round-off wanders above it (single precision).
+  // new minimum every cycle; only a residual at round-off wanders above it (float round-off in
+  // single precision, x's own rounding in double).
   SolveReport solve(double relative_tolerance, int max_cycles, int stall_cycles = 0);
   SolveReport run_cycles(int cycles);
   // Flexible GMRES(restart) on the augmented system, preconditioned by one cycle per iteration

@@ -202,11 +202,8 @@ double dot(const Eigen::VectorXd& a, const Eigen::Matrix<V, Eigen::Dynamic, 1>& 
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t q = 0; q < blocks; ++q) {
     const std::ptrdiff_t lo = q * kDotBlock, count = std::min(kDotBlock, n - lo);
-    if constexpr (std::is_same_v<V, double>)
-      partial[static_cast<std::size_t>(q)] = a.segment(lo, count).dot(b.segment(lo, count));
-    else
-      partial[static_cast<std::size_t>(q)] =
-          a.segment(lo, count).dot(b.segment(lo, count).template cast<double>());
+    partial[static_cast<std::size_t>(q)] =
+        a.segment(lo, count).dot(b.segment(lo, count).template cast<double>());
   }
   double sum = 0;
   for (double p : partial) sum += p;

@@ -13,8 +13,8 @@ struct StepStats {
   double quasi_linear_residual = 0;   // grid co-rotated: last residual of the frozen system
   bool converged = true;
   // Grid: stopped short of the tolerance where round-off stalled the residual (single precision:
-  // float round-off; accelerated solves: the round-off floor of x in double, ~eps |A| |x|);
-  // relative_residual is the level reached.
+  // float round-off; mixed and double precision: the round-off floor of x in double,
+  // ~eps |A| |x|); relative_residual is the level reached.
   bool stalled = false;
   double seconds = 0;
 };
