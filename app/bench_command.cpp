@@ -91,6 +91,7 @@ grid::MultigridOptions multigrid_options(const BoxBenchOptions& o) {
     throw Error("must be 'V' or 'W' (got '" + o.cycle + "')", {.pointer = "--cycle"});
   }
   if (o.band_layers >= 0) options.band_layers = o.band_layers;
+  if (o.local_corrections >= 0) options.local_corrections = o.local_corrections;
   if (o.relocation_sweeps >= 0) options.relocation_sweeps = o.relocation_sweeps;
   if (o.refinement_reduction >= 0) options.refinement_reduction = o.refinement_reduction;
   options.band_sweep_order = grid::band_sweep_order(o.smoother_order);
@@ -214,6 +215,17 @@ void add_cycle_fields(nlohmann::json& record, const grid::Multigrid<Dim, Scalar>
   // Mixed precision: cycles that added the correction in double, and float residual norms.
   record["refinements"] = mg.refinements();
   record["float_norms"] = mg.float_norms();
+  nlohmann::json boxes = nlohmann::json::array();
+  for (int i = 0; i < mg.local_corrections(); ++i) {
+    const auto& local = mg.local_correction(i);
+    std::vector<int> lo(Dim), hi(Dim);
+    for (int a = 0; a < Dim; ++a) {
+      lo[a] = local.lo()[a];
+      hi[a] = local.hi()[a];
+    }
+    boxes.push_back({{"lo", lo}, {"hi", hi}, {"unknowns", local.unknowns()}});
+  }
+  record["local_corrections"] = boxes;
   add_roofline(record, mg, report, triad_gb_per_s);
 }
 
@@ -442,7 +454,8 @@ nlohmann::json mesh_vcycle(const std::string& file, int resolution, const BoxBen
       scene::build_grid_setup(scene::parse_scene(document, "bench.json", "."));
   const double scene_seconds = scene_timer.seconds();
   grid::MultigridOptions options = multigrid_options(o);
-  if (o.band_layers < 0) options.band_layers = 1;  // the scenes' default
+  if (o.band_layers < 0) options.band_layers = 1;              // the scenes' default
+  if (o.local_corrections < 0) options.local_corrections = 4;  // the scenes' default
   const Timer setup_timer;
   grid::Multigrid<3, float> mg(setup.problem, options);
   const double setup_seconds = setup_timer.seconds();
@@ -967,6 +980,9 @@ void register_bench_commands(CLI::App& app) {
                      "Band Gauss-Seidel sweeps per smoothing (0 = paper default for nu)");
   vcycle->add_option("--band-layers", profile_options.band_layers,
                      "Extra cell layers in the band (default: 1 for --mesh, 0 for the box)");
+  vcycle->add_option("--local-corrections", profile_options.local_corrections,
+                     "Exact box solves placed where a slow mode's residual sits, at most this "
+                     "many (default: 4 for --mesh, the scenes' default, and 0 for the box)");
   vcycle->add_option("--relocation-sweeps", profile_options.relocation_sweeps,
                      "Fig. 8 band sweeps before restriction / after prolongation (default 2)");
   vcycle->add_option("--refinement-reduction", profile_options.refinement_reduction,

@@ -28,6 +28,8 @@ struct BoxBenchOptions {
   // bench vcycle: MultigridOptions for studies of the rate (a negative value keeps the default;
   // band_layers: 1 for --mesh, the scenes' default, and 0 for the box).
   int band_layers = -1;
+  // MultigridOptions::local_corrections (-1: the library's default).
+  int local_corrections = -1;
   int relocation_sweeps = -1;
   std::string smoother_order = "auto";  // "block_local", "band_wide" (grid::BandSweepOrder)
   int max_levels = 0;

@@ -187,6 +187,9 @@ PhaseSeconds cycle_bytes(const Multigrid<Dim, Scalar>& mg) {
   bytes.coarse_solve = visits[coarsest] * (2.0 * static_cast<double>(mg.coarse_factor_bytes()) +
                                            static_cast<double>(last.size()) * F * (2 * S + kField) +
                                            traction_bytes(last));
+  // The local corrections' direct solves, once per cycle on the finest level.
+  for (int i = 0; i < mg.local_corrections(); ++i)
+    bytes.coarse_solve += static_cast<double>(mg.local_correction(i).apply_bytes());
   if (mg.single_precision()) {
     // The float finest level holds the solution: no refinement; the cycle's norm comes from the
     // rows without a residual array (fresh_residual_norm: no r written, no norm pass); the

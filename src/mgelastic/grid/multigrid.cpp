@@ -219,7 +219,7 @@ int default_boundary_sweeps(double poisson_ratio) {
 
 template <int Dim, typename Scalar>
 Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, MultigridOptions options)
-    : m_options(options) {
+    : m_options(options), m_material(problem.material), m_inertia(problem.inertia) {
   validate(problem);
   m_options.band_sweep_order = resolved<Dim>(options.band_sweep_order);  // options() reports it
   m_boundary_sweeps = options.boundary_sweeps > 0
@@ -377,7 +377,8 @@ template <int Dim, typename Scalar>
 std::size_t Multigrid<Dim, Scalar>::bytes() const {
   std::size_t total = m_solution ? m_solution->bytes() : 0;
   for (const auto& level : m_levels) total += level.bytes();
-  return total + fused_restriction_bytes() + (m_krylov ? m_krylov->bytes() : 0);
+  return total + fused_restriction_bytes() + (m_krylov ? m_krylov->bytes() : 0) +
+         local_correction_bytes();
 }
 
 template <int Dim, typename Scalar>
@@ -394,6 +395,7 @@ std::vector<ByteShare> Multigrid<Dim, Scalar>::byte_breakdown() const {
       total.push_back(std::move(share));
     }
   if (m_krylov) total.push_back({"accelerated solve's vectors (kept)", m_krylov->bytes()});
+  if (!m_local.empty()) total.push_back({"local corrections", local_correction_bytes()});
   return total;
 }
 
@@ -528,6 +530,12 @@ template <int Dim, typename Scalar>
 void Multigrid<Dim, Scalar>::cycle_correction() {
   m_correction_zero = false;  // the cycle writes the finest level's x
   observe(0, CyclePhase::CYCLE_START);
+  // The local corrections first: the cycle's smoothing then removes the residual that each
+  // leaves at its box's border (after the cycle, that residual raised the residual norm of the
+  // cycle that first applied a box, up to 8x).
+  Timer timer;
+  for (auto& local : m_local) local->apply(m_levels.front());
+  m_phases.coarse_solve += timer.seconds();
   correct(0);
 }
 
@@ -618,6 +626,7 @@ SolveReport Multigrid<Dim, Scalar>::solve(double relative_tolerance, int max_cyc
     const std::string reason = divergence_reason(report.residuals);
     if (!reason.empty())
       fail_diverged("V-cycle " + std::to_string(report.cycles()), reason, report.residuals, start);
+    place_local_corrections(report.residuals);
     if (stall.stalled_after(report.residuals.back()) && report.residuals.back() > target) {
       report.stalled = true;
       break;
@@ -627,6 +636,105 @@ SolveReport Multigrid<Dim, Scalar>::solve(double relative_tolerance, int max_cyc
   report.converged = report.residuals.back() <= target;
   report.seconds = timer.seconds();
   return report;
+}
+
+namespace {
+
+// Cells of `level` in the storage coordinates [lo, hi) that are not exterior.
+template <int Dim, typename Scalar>
+std::size_t body_cells_in(const Level<Dim, Scalar>& level, const IVec<Dim>& lo,
+                          const IVec<Dim>& hi) {
+  std::size_t count = 0;
+  if (((hi - lo).array() <= 0).any()) return 0;
+  for (IVec<Dim> s = lo;;) {
+    count += level.cells[level.lattice.index(s)] != CellType::EXTERIOR;
+    int a = 0;
+    while (a < Dim && ++s[a] == hi[a]) {
+      s[a] = lo[a];
+      ++a;
+    }
+    if (a == Dim) return count;
+  }
+}
+
+}  // namespace
+
+template <int Dim, typename Scalar>
+void Multigrid<Dim, Scalar>::place_local_corrections(const std::vector<double>& residuals) {
+  ++m_cycles_since_placement;
+  if (m_options.local_corrections <= 0 || m_placement_stopped || levels() < 2 ||
+      m_cycles_since_placement < kLocalCorrectionWatch || residuals.size() < 3)
+    return;
+  const std::size_t n = residuals.size();
+  const auto ratio = [&](std::size_t i) { return residuals[i] / residuals[i - 1]; };
+  if (m_placement_on_trial) {
+    m_placement_on_trial = false;
+    const bool passed = ratio(n - 1) < kLocalCorrectionGain * m_ratio_at_placement;
+    if (!passed && m_trial_failed) {
+      m_local = std::move(m_local_fallback);
+      m_placement_stopped = true;
+      return;
+    }
+    if (!passed) m_local_fallback = m_local_before;
+    m_trial_failed = !passed;
+  }
+  const auto slow = [&](std::size_t i) {
+    return ratio(i) > kLocalCorrectionRatio && ratio(i) < 1.0;
+  };
+  if (!slow(n - 1) || !slow(n - 2)) return;
+  m_cycles_since_placement = 0;
+  m_local_before = m_local;
+  m_ratio_at_placement = ratio(n - 1);
+  Timer timer;
+  Level<Dim, Scalar>& fine = m_levels.front();
+  // The float level's residual is the correction problem's: the double one, rounded.
+  update_residual(fine);
+  const int cube = std::clamp(fine.lattice.cells.maxCoeff() / kLocalCorrectionCubesPerSide, 2, 8);
+  const auto boxes =
+      slow_mode_boxes(fine, cube, kLocalCorrectionMinShare, kLocalCorrectionCover, cube);
+  for (auto& field : fine.r) FieldArray<Scalar>().swap(field);  // the cycle keeps no r
+  const auto body =
+      static_cast<double>(std::count_if(fine.cells.begin(), fine.cells.end(),
+                                        [](CellType type) { return type != CellType::EXTERIOR; }));
+  const auto cap = std::min(kLocalCorrectionMaxCells,
+                            std::max(kLocalCorrectionMinCells,
+                                     static_cast<std::size_t>(kLocalCorrectionBodyShare * body)));
+  for (auto [lo, hi] : boxes) {
+    // A box that overlaps boxes placed before replaces them by the union of all.
+    std::vector<std::size_t> overlapping;
+    for (std::size_t i = 0; i < m_local.size(); ++i)
+      if (((lo.array() < m_local[i]->hi().array()) && (m_local[i]->lo().array() < hi.array()))
+              .all())
+        overlapping.push_back(i);
+    bool covered = false;
+    for (std::size_t i : overlapping) {
+      covered = covered || ((lo.array() >= m_local[i]->lo().array()).all() &&
+                            (hi.array() <= m_local[i]->hi().array()).all());
+      lo = lo.cwiseMin(m_local[i]->lo());
+      hi = hi.cwiseMax(m_local[i]->hi());
+    }
+    const bool room =
+        static_cast<int>(m_local.size() - overlapping.size()) < m_options.local_corrections;
+    if (covered || !room || body_cells_in(fine, lo, hi) > cap) continue;
+    try {
+      auto local =
+          std::make_shared<LocalCorrection<Dim, Scalar>>(fine, m_material, m_inertia, lo, hi);
+      for (auto i = overlapping.rbegin(); i != overlapping.rend(); ++i)
+        m_local.erase(m_local.begin() + static_cast<std::ptrdiff_t>(*i));
+      m_local.push_back(std::move(local));
+    } catch (const SingularCoarseLevel&) {
+      // A box whose part of the body the margin does not hold: no correction there.
+    }
+  }
+  m_placement_on_trial = m_local != m_local_before;
+  m_phases.solve_setup += timer.seconds();
+}
+
+template <int Dim, typename Scalar>
+std::size_t Multigrid<Dim, Scalar>::local_correction_bytes() const {
+  std::size_t sum = 0;
+  for (const auto& local : m_local) sum += local->bytes();
+  return sum;
 }
 
 template <int Dim, typename Scalar>

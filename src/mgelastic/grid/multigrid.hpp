@@ -16,6 +16,7 @@
 #include "mgelastic/grid/galerkin_coarsest.hpp"
 #include "mgelastic/grid/krylov_workspace.hpp"
 #include "mgelastic/grid/level.hpp"
+#include "mgelastic/grid/local_correction.hpp"
 #include "mgelastic/grid/problem.hpp"
 #include "mgelastic/grid/residual_restriction.hpp"
 #include "mgelastic/grid/solver_health.hpp"
@@ -102,6 +103,15 @@ struct MultigridOptions {
   // and the pages of the loads that hold only zeros (record_zero_loads).
   // The same results either way; false is for comparisons.
   bool release_dead_pages = true;
+  // At most this many local corrections (local_correction.hpp) that solve() places on the
+  // finest level where a slow mode's residual sits: after kLocalCorrectionWatch cycles (since
+  // the start or the last placement) whose last two ratios exceed kLocalCorrectionRatio, boxes
+  // around the cubes holding most of the residual are factored and applied after every cycle
+  // from then on (and in later solves). 0 = none (the library's default, so that rate studies
+  // see the plain cycle; scenes and `bench vcycle --mesh` place up to 4). The armadillo at 256
+  // cells: settled ratio 0.77 -> 0.36, 1e-6 in 18 cycles instead of > 30
+  // (docs/embedded-geometry.md).
+  int local_corrections = 0;
 };
 
 int default_boundary_sweeps(double poisson_ratio);
@@ -112,12 +122,30 @@ inline constexpr int kMaxDeferredCycles = 8;
 // ... and a deferred cycle whose float residual ratio exceeds this refines (round-off reached).
 inline constexpr double kDeferredStall = 0.9;
 
+// MultigridOptions::local_corrections: when boxes are placed, and their size.
+inline constexpr int kLocalCorrectionWatch = 4;
+inline constexpr double kLocalCorrectionRatio = 0.4;
+inline constexpr double kLocalCorrectionGain = 0.85;
+// Residual cubes of the lattice's longest side / kLocalCorrectionCubesPerSide cells (2 to 8),
+// and boxes that margin around them: a slow mode's extent follows the body's features.
+inline constexpr int kLocalCorrectionCubesPerSide = 32;
+inline constexpr double kLocalCorrectionMinShare = 0.01;  // of the squared residual, per cube
+inline constexpr double kLocalCorrectionCover = 0.9;      // cubes taken until they hold this
+// A box holds at most this share of the level's body cells, or kLocalCorrectionMinCells, and
+// never more than kLocalCorrectionMaxCells: a mode that needs more is not local (its
+// factorization would outweigh the cycles it saves: ~60k unknowns factor in ~1 s).
+inline constexpr double kLocalCorrectionBodyShare = 1.0 / 64;
+inline constexpr std::size_t kLocalCorrectionMinCells = 4096;
+inline constexpr std::size_t kLocalCorrectionMaxCells = 16384;
+
 // Seconds spent per phase, accumulated over cycles (the rows of the paper's Fig. 22, and the
 // cycle's own work around them, so that the phases add up to the solve time). The byte model
 // of the same phases (cycle_roofline.hpp) uses this struct too.
 struct PhaseSeconds {
   double boundary_smoothing = 0, interior_smoothing = 0, residual = 0, restriction = 0,
-         prolongation = 0, coarse_solve = 0;
+         prolongation = 0;
+  // Direct solves: the coarsest level's and the local corrections' (local_correction.hpp).
+  double coarse_solve = 0;
   // Mixed precision: the float correction problem loaded from the double residual, and the
   // correction added back to the double solution with its traction back-substitution.
   double refinement = 0;
@@ -229,6 +257,10 @@ class Multigrid {
   const MultigridOptions& options() const { return m_options; }
   // Bytes of the coarsest level's factor (a coarse solve streams it twice).
   std::size_t coarse_factor_bytes() const { return m_coarse->factor_bytes(); }
+  // The local corrections placed so far (MultigridOptions::local_corrections).
+  int local_corrections() const { return static_cast<int>(m_local.size()); }
+  const LocalCorrection<Dim, Scalar>& local_correction(int i) const { return *m_local[i]; }
+  std::size_t local_correction_bytes() const;
   // Memory of all levels' arrays (the working set of a cycle, without the coarse factor).
   std::size_t bytes() const;
   // bytes() by Level::byte_breakdown group, summed over the levels; the double-precision
@@ -266,6 +298,8 @@ class Multigrid {
   // Mixed precision: adds the float level's correction to the double solution, recomputes the
   // residual there (the next correction problem) and returns its norm.
   double refine();
+  // solve()'s watch for a slow mode after each cycle (MultigridOptions::local_corrections).
+  void place_local_corrections(const std::vector<double>& residuals);
   // The finest level's band rows by plane (fresh_residual_norm's lines); null with one level.
   const BandRowPlanes* finest_band_planes() const {
     return m_band_row_planes.empty() ? nullptr : &m_band_row_planes.front();
@@ -338,6 +372,21 @@ class Multigrid {
       m_galerkin;  // coarsest_operator != REDISCRETIZED
   MultigridOptions m_options;
   int m_boundary_sweeps = 2;
+  // Local corrections of the finest level (MultigridOptions::local_corrections), what they are
+  // built from, and the cycles since solve() last looked for a slow mode.
+  // A placement is on trial until kLocalCorrectionWatch cycles later: it passes if the ratio
+  // has fallen below kLocalCorrectionGain times the ratio that triggered it. After a failed
+  // trial one more placement may grow the boxes (a first box may hold only part of the mode);
+  // if it fails too, the boxes before the first failure return and no more are placed (the
+  // slow mode is not local).
+  std::vector<std::shared_ptr<LocalCorrection<Dim, Scalar>>> m_local, m_local_before,
+      m_local_fallback;
+  bool m_trial_failed = false;
+  Material m_material;
+  double m_inertia = 0;
+  int m_cycles_since_placement = 0;
+  double m_ratio_at_placement = 0;
+  bool m_placement_on_trial = false, m_placement_stopped = false;
   PhaseSeconds m_phases;
   CycleMonitor* m_monitor = nullptr;  // non-null only while a diverged solve is replayed
 };

@@ -399,14 +399,61 @@ double residual_norm(const Level<Dim, Scalar>& level) {
   return norm_of<Dim, Scalar>(r, level.size(), level.live);
 }
 
-#define MGELASTIC_INSTANTIATE(D, S)                                                       \
-  template void residual_planes<D, S>(const Level<D, S>&, const BandRowPlanes&, int, int, \
-                                      const std::array<S*, D + 1>&);                      \
-  template void update_residual<D, S>(Level<D, S>&);                                      \
-  template double compute_residual<D, S>(Level<D, S>&);                                   \
-  template double fresh_residual_norm<D, S>(const Level<D, S>&, const BandRowPlanes*);    \
-  template double residual_norm<D, S>(const Level<D, S>&);                                \
-  template double residual_into<D, double, S>(const Level<D, double>&,                    \
+template <int Dim, typename Scalar>
+void stencil_residual_at(const Level<Dim, Scalar>& level, const std::vector<Stretch>& stretches,
+                         const std::array<double*, Dim + 1>& r) {
+  const StencilResidual<Dim, Scalar> stencil(level);
+  std::vector<std::size_t> offset(stretches.size() + 1, 0);
+  for (std::size_t i = 0; i < stretches.size(); ++i)
+    offset[i + 1] = offset[i] + stretches[i].length;
+  const auto count = static_cast<std::ptrdiff_t>(stretches.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < count; ++i) {
+    const std::ptrdiff_t k = stretches[i].first;
+    const auto length = static_cast<std::ptrdiff_t>(stretches[i].length);
+    std::array<double*, Dim + 1> out;  // out[f][k] = r[f][offset[i]]
+    for (int f = 0; f <= Dim; ++f) out[f] = r[f] + offset[i] - k;
+    // Points outside the evaluated range (padding planes) hold no stencil row.
+    const std::ptrdiff_t a = std::clamp(k, stencil.lo, stencil.hi);
+    const std::ptrdiff_t e = std::clamp(k + length, stencil.lo, stencil.hi);
+    for (int f = 0; f <= Dim; ++f) {
+      std::fill(out[f] + k, out[f] + a, 0.0);
+      std::fill(out[f] + e, out[f] + k + length, 0.0);
+    }
+    for (std::ptrdiff_t c = a; c < e; c += residual_chunk)
+      stencil.chunk(out, c, std::min(residual_chunk, e - c), nullptr);
+  }
+}
+
+template <int Dim, typename Scalar>
+void band_residual_at(const Level<Dim, Scalar>& level, const std::vector<std::uint32_t>& rows,
+                      double* out) {
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    out[i] = static_cast<double>(band_momentum_residual(level, rows[i]));
+}
+
+template <int Dim, typename Scalar>
+void band_pressure_residual_at(const Level<Dim, Scalar>& level,
+                               const std::vector<std::uint32_t>& rows, double* out) {
+  const Scalar d0 = level.lambda > 0 ? level.mu * level.mu / level.lambda : Scalar(0);
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    out[i] = static_cast<double>(band_pressure_residual(level, rows[i], d0));
+}
+
+#define MGELASTIC_INSTANTIATE(D, S)                                                           \
+  template void stencil_residual_at<D, S>(const Level<D, S>&, const std::vector<Stretch>&,    \
+                                          const std::array<double*, D + 1>&);                 \
+  template void band_residual_at<D, S>(const Level<D, S>&, const std::vector<std::uint32_t>&, \
+                                       double*);                                              \
+  template void band_pressure_residual_at<D, S>(const Level<D, S>&,                           \
+                                                const std::vector<std::uint32_t>&, double*);  \
+  template void residual_planes<D, S>(const Level<D, S>&, const BandRowPlanes&, int, int,     \
+                                      const std::array<S*, D + 1>&);                          \
+  template void update_residual<D, S>(Level<D, S>&);                                          \
+  template double compute_residual<D, S>(Level<D, S>&);                                       \
+  template double fresh_residual_norm<D, S>(const Level<D, S>&, const BandRowPlanes*);        \
+  template double residual_norm<D, S>(const Level<D, S>&);                                    \
+  template double residual_into<D, double, S>(const Level<D, double>&,                        \
                                               const std::array<S*, D + 1>&);
 
 MGELASTIC_INSTANTIATE(2, float)

@@ -10,6 +10,8 @@
 // Dynamics steps (Sec. 8) add -c u to every momentum row (Level::inertia).
 #include <array>
 #include <cstddef>
+#include <cstdint>
+#include <vector>
 
 #include "mgelastic/grid/band_row_planes.hpp"
 #include "mgelastic/grid/level.hpp"
@@ -58,5 +60,26 @@ double residual_into(const Level<Dim, Scalar>& level, const std::array<Out*, Dim
 template <int Dim, typename Scalar>
 void residual_planes(const Level<Dim, Scalar>& level, const BandRowPlanes& band_planes, int first,
                      int end, const std::array<Scalar*, Dim + 1>& r);
+
+// Residuals at chosen rows only (a local correction's box, local_correction.hpp), each the
+// value update_residual writes there:
+//   stencil_residual_at: every field's stencil row (zero where the field's equation is not a
+//     stencil row) at the points of `stretches` (runs of flat indices along x), written to r[f]
+//     stretch after stretch;
+//   band_residual_at: out[i] for band momentum row rows[i] (BandKernel rows);
+//   band_pressure_residual_at: out[i] for band pressure row rows[i] (band_p rows).
+struct Stretch {
+  std::ptrdiff_t first;
+  std::uint32_t length;
+};
+template <int Dim, typename Scalar>
+void stencil_residual_at(const Level<Dim, Scalar>& level, const std::vector<Stretch>& stretches,
+                         const std::array<double*, Dim + 1>& r);
+template <int Dim, typename Scalar>
+void band_residual_at(const Level<Dim, Scalar>& level, const std::vector<std::uint32_t>& rows,
+                      double* out);
+template <int Dim, typename Scalar>
+void band_pressure_residual_at(const Level<Dim, Scalar>& level,
+                               const std::vector<std::uint32_t>& rows, double* out);
 
 }  // namespace mgelastic::grid

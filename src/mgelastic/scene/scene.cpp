@@ -161,6 +161,7 @@ Scene parse_scene(const nlohmann::json& document, const std::string& file,
   s.boundary_sweeps = d["solver"]["boundary_sweeps"];
   s.corotated_smoother = d["solver"]["corotated_smoother"];
   s.band_layers = d["solver"]["band_layers"];
+  s.local_corrections = d["solver"]["local_corrections"];
   s.smoother_order = d["solver"]["smoother_order"];
   s.accelerate = d["solver"]["accelerate"];
   s.output_dir = d["output"]["dir"];

@@ -89,6 +89,7 @@ struct Scene {
   int boundary_sweeps = 0;
   std::string corotated_smoother = "box";
   int band_layers = 1;
+  int local_corrections = 4;
   std::string smoother_order = "auto";
   bool accelerate = true;
   std::string output_dir = "out";

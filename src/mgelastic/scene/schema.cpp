@@ -200,7 +200,12 @@ Field build_schema() {
        integer("band_layers",
                "Extra cell layers of the boundary band (0 = the paper's narrow band; 1 speeds up "
                "embedded bodies whose constraints cut them at shallow angles)",
-               1, 0, 4)});
+               1, 0, 4),
+       integer("local_corrections",
+               "Exact box solves that plain V-cycles place where a slow mode's residual sits (a "
+               "thin limb the coarse levels merge), at most this many; kept only where they "
+               "speed up the cycles (0 = none)",
+               4, 0, 16)});
   Field time = object(
       "time", "Frames and time stepping",
       {number("dt", "Frame duration", "s", 1.0 / 30.0, 0.0, true),

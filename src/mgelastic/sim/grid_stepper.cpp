@@ -29,6 +29,7 @@ grid::MultigridOptions multigrid_options(const scene::Scene& s) {
   grid::MultigridOptions options;
   options.boundary_sweeps = s.boundary_sweeps;
   options.band_layers = s.band_layers;
+  options.local_corrections = s.local_corrections;
   options.band_sweep_order = grid::band_sweep_order(s.smoother_order);
   options.cycle = s.cycle == "W" ? grid::CycleType::W : grid::CycleType::V;
   // "single": the float finest level holds the solution (no double copy); "float": mixed.
