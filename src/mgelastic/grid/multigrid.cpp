@@ -660,39 +660,57 @@ std::size_t body_cells_in(const Level<Dim, Scalar>& level, const IVec<Dim>& lo,
 }  // namespace
 
 template <int Dim, typename Scalar>
-void Multigrid<Dim, Scalar>::place_local_corrections(const std::vector<double>& residuals) {
-  ++m_cycles_since_placement;
+bool Multigrid<Dim, Scalar>::local_corrections_due(int cycles, double ratio, double previous) {
+  m_cycles_since_placement += cycles;
   if (m_options.local_corrections <= 0 || m_placement_stopped || levels() < 2 ||
-      m_cycles_since_placement < kLocalCorrectionWatch || residuals.size() < 3)
-    return;
-  const std::size_t n = residuals.size();
-  const auto ratio = [&](std::size_t i) { return residuals[i] / residuals[i - 1]; };
+      m_cycles_since_placement < kLocalCorrectionWatch)
+    return false;
   if (m_placement_on_trial) {
     m_placement_on_trial = false;
-    const bool passed = ratio(n - 1) < kLocalCorrectionGain * m_ratio_at_placement;
+    const bool passed = ratio < kLocalCorrectionGain * m_ratio_at_placement;
     if (!passed && m_trial_failed) {
       m_local = std::move(m_local_fallback);
       m_placement_stopped = true;
-      return;
+      return false;
     }
     if (!passed) m_local_fallback = m_local_before;
     m_trial_failed = !passed;
   }
-  const auto slow = [&](std::size_t i) {
-    return ratio(i) > kLocalCorrectionRatio && ratio(i) < 1.0;
-  };
-  if (!slow(n - 1) || !slow(n - 2)) return;
+  const auto slow = [](double r) { return r > kLocalCorrectionRatio && r < 1.0; };
+  if (!slow(ratio) || !slow(previous)) return false;
   m_cycles_since_placement = 0;
-  m_local_before = m_local;
-  m_ratio_at_placement = ratio(n - 1);
+  m_ratio_at_placement = ratio;
+  return true;
+}
+
+template <int Dim, typename Scalar>
+int Multigrid<Dim, Scalar>::local_correction_cube() const {
+  return std::clamp(m_levels.front().lattice.cells.maxCoeff() / kLocalCorrectionCubesPerSide, 2,
+                    8);
+}
+
+template <int Dim, typename Scalar>
+void Multigrid<Dim, Scalar>::place_local_corrections(const std::vector<double>& residuals) {
+  const std::size_t n = residuals.size();
+  if (n < 3) return;
+  const auto ratio = [&](std::size_t i) { return residuals[i] / residuals[i - 1]; };
+  if (!local_corrections_due(1, ratio(n - 1), ratio(n - 2))) return;
   Timer timer;
   Level<Dim, Scalar>& fine = m_levels.front();
   // The float level's residual is the correction problem's: the double one, rounded.
   update_residual(fine);
-  const int cube = std::clamp(fine.lattice.cells.maxCoeff() / kLocalCorrectionCubesPerSide, 2, 8);
+  const int cube = local_correction_cube();
   const auto boxes =
       slow_mode_boxes(fine, cube, kLocalCorrectionMinShare, kLocalCorrectionCover, cube);
   for (auto& field : fine.r) FieldArray<Scalar>().swap(field);  // the cycle keeps no r
+  place_boxes(boxes);
+  m_phases.solve_setup += timer.seconds();
+}
+
+template <int Dim, typename Scalar>
+void Multigrid<Dim, Scalar>::place_boxes(const std::vector<std::array<IVec<Dim>, 2>>& boxes) {
+  m_local_before = m_local;
+  Level<Dim, Scalar>& fine = m_levels.front();
   const auto body =
       static_cast<double>(std::count_if(fine.cells.begin(), fine.cells.end(),
                                         [](CellType type) { return type != CellType::EXTERIOR; }));
@@ -727,7 +745,6 @@ void Multigrid<Dim, Scalar>::place_local_corrections(const std::vector<double>& 
     }
   }
   m_placement_on_trial = m_local != m_local_before;
-  m_phases.solve_setup += timer.seconds();
 }
 
 template <int Dim, typename Scalar>

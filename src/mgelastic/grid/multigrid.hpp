@@ -298,8 +298,15 @@ class Multigrid {
   // Mixed precision: adds the float level's correction to the double solution, recomputes the
   // residual there (the next correction problem) and returns its norm.
   double refine();
-  // solve()'s watch for a slow mode after each cycle (MultigridOptions::local_corrections).
+  // The watch for a slow mode (MultigridOptions::local_corrections): after `cycles` more cycles
+  // whose last ratios per cycle are `ratio` and `previous`, settles a placement's trial and
+  // says whether to place boxes now.
+  bool local_corrections_due(int cycles, double ratio, double previous);
+  // solve()'s watch after each cycle: places boxes from the finest level's residual.
   void place_local_corrections(const std::vector<double>& residuals);
+  // Builds corrections for `boxes` (slow_mode_boxes), merging them with overlapping ones.
+  void place_boxes(const std::vector<std::array<IVec<Dim>, 2>>& boxes);
+  int local_correction_cube() const;  // cells per side of slow_mode_boxes' cubes and margin
   // The finest level's band rows by plane (fresh_residual_norm's lines); null with one level.
   const BandRowPlanes* finest_band_planes() const {
     return m_band_row_planes.empty() ? nullptr : &m_band_row_planes.front();

@@ -401,11 +401,21 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
     // The Givens rotations left the upper triangle in h (last rotated column included).
     const Eigen::VectorXd y = h.topLeftCorner(j, j).triangularView<Eigen::Upper>().solve(g.head(j));
     for (int i = 0; i < j; ++i) add_scaled(x, y[i], z[i]);
+    const double restart_norm = r_norm;
     true_residual(r);
     r_norm = norm(r);
     report.residuals.back() = r_norm;
     const std::string reason = divergence_reason(report.residuals);
     if (!reason.empty()) diverged(reason);
+    // Local corrections from the restart's mean ratio per cycle; s.r holds the true residual.
+    const double mean_ratio = std::pow(r_norm / restart_norm, 1.0 / std::max(j, 1));
+    if (r_norm > target && local_corrections_due(j, mean_ratio, mean_ratio)) {
+      Timer placing;
+      const int cube = local_correction_cube();
+      place_boxes(
+          slow_mode_boxes(s, cube, kLocalCorrectionMinShare, kLocalCorrectionCover, cube));
+      m_phases.solve_setup += placing.seconds();
+    }
     const bool at_floor = estimate_reached && r_norm > target && r_norm > 0.5 * smallest;
     stalled_restarts = at_floor ? stalled_restarts + 1 : 0;
     smallest = std::min(smallest, r_norm);
