@@ -13,6 +13,8 @@
 // smoothing nor the coarse correction reaches: the V-cycle's residual concentrates in a few
 // cubes there after some cycles (residual_blocks.hpp), and an exact solve of a box around them
 // removes it. Multigrid places such boxes itself (MultigridOptions::local_corrections).
+#include <array>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -56,13 +58,26 @@ class LocalCorrection {
   std::vector<double> m_scratch;
 };
 
-// Boxes for a slow mode of `level` from its residual r (the level's update_residual): the cubes
-// of `cube` cells holding the largest shares of the squared residual, taken largest first while
-// each holds at least `min_share` and together they hold less than `cover`, grouped into
-// face-, edge- or corner-connected clusters; each cluster's bounding box grown by `margin` cells
-// on every side (storage coordinates [lo, hi)). Boxes that overlap are merged.
+// Sums of squared residuals (every field's rows) over cubes of `cube` cells, keyed by the
+// cube's storage coordinates / cube:
+//   residual_cube_sums: of level.r (update_residual's);
+//   fresh_residual_cube_sums: evaluated lattice row by lattice row, without a residual array
+//     (a slow mode's placement on a level whose cycle keeps no r).
+template <int Dim>
+using CubeSums = std::map<std::array<int, Dim>, double>;
 template <int Dim, typename Scalar>
-std::vector<std::array<IVec<Dim>, 2>> slow_mode_boxes(const Level<Dim, Scalar>& level, int cube,
-                                                      double min_share, double cover, int margin);
+CubeSums<Dim> residual_cube_sums(const Level<Dim, Scalar>& level, int cube);
+template <int Dim, typename Scalar>
+CubeSums<Dim> fresh_residual_cube_sums(const Level<Dim, Scalar>& level, int cube);
+
+// Boxes for a slow mode from its residual's cube sums on `lattice`: the cubes holding the
+// largest shares of the squared residual, taken largest first while each holds at least
+// `min_share` and together they hold less than `cover`, each grown by `margin` cells on every
+// side, merged while any two overlap (clusters of cubes closer than twice the margin end in one
+// box); storage coordinates [lo, hi), clipped to the real cells.
+template <int Dim>
+std::vector<std::array<IVec<Dim>, 2>> slow_mode_boxes(const CubeSums<Dim>& sums, int cube,
+                                                      const Lattice<Dim>& lattice, double min_share,
+                                                      double cover, int margin);
 
 }  // namespace mgelastic::grid

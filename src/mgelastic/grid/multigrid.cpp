@@ -685,8 +685,7 @@ bool Multigrid<Dim, Scalar>::local_corrections_due(int cycles, double ratio, dou
 
 template <int Dim, typename Scalar>
 int Multigrid<Dim, Scalar>::local_correction_cube() const {
-  return std::clamp(m_levels.front().lattice.cells.maxCoeff() / kLocalCorrectionCubesPerSide, 2,
-                    8);
+  return std::clamp(m_levels.front().lattice.cells.maxCoeff() / kLocalCorrectionCubesPerSide, 2, 8);
 }
 
 template <int Dim, typename Scalar>
@@ -696,14 +695,11 @@ void Multigrid<Dim, Scalar>::place_local_corrections(const std::vector<double>& 
   const auto ratio = [&](std::size_t i) { return residuals[i] / residuals[i - 1]; };
   if (!local_corrections_due(1, ratio(n - 1), ratio(n - 2))) return;
   Timer timer;
-  Level<Dim, Scalar>& fine = m_levels.front();
+  const Level<Dim, Scalar>& fine = m_levels.front();
   // The float level's residual is the correction problem's: the double one, rounded.
-  update_residual(fine);
   const int cube = local_correction_cube();
-  const auto boxes =
-      slow_mode_boxes(fine, cube, kLocalCorrectionMinShare, kLocalCorrectionCover, cube);
-  for (auto& field : fine.r) FieldArray<Scalar>().swap(field);  // the cycle keeps no r
-  place_boxes(boxes);
+  place_boxes(slow_mode_boxes<Dim>(fresh_residual_cube_sums(fine, cube), cube, fine.lattice,
+                                   kLocalCorrectionMinShare, kLocalCorrectionCover, cube));
   m_phases.solve_setup += timer.seconds();
 }
 

@@ -412,8 +412,8 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
     if (r_norm > target && local_corrections_due(j, mean_ratio, mean_ratio)) {
       Timer placing;
       const int cube = local_correction_cube();
-      place_boxes(
-          slow_mode_boxes(s, cube, kLocalCorrectionMinShare, kLocalCorrectionCover, cube));
+      place_boxes(slow_mode_boxes<Dim>(residual_cube_sums(s, cube), cube, s.lattice,
+                                       kLocalCorrectionMinShare, kLocalCorrectionCover, cube));
       m_phases.solve_setup += placing.seconds();
     }
     const bool at_floor = estimate_reached && r_norm > target && r_norm > 0.5 * smallest;

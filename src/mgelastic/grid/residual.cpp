@@ -414,8 +414,8 @@ void stencil_residual_at(const Level<Dim, Scalar>& level, const std::vector<Stre
     std::array<double*, Dim + 1> out;  // out[f][k] = r[f][offset[i]]
     for (int f = 0; f <= Dim; ++f) out[f] = r[f] + offset[i] - k;
     // Points outside the evaluated range (padding planes) hold no stencil row.
-    const std::ptrdiff_t a = std::clamp(k, stencil.lo, stencil.hi);
-    const std::ptrdiff_t e = std::clamp(k + length, stencil.lo, stencil.hi);
+    const std::ptrdiff_t a = std::clamp(stencil.lo, k, k + length);
+    const std::ptrdiff_t e = std::clamp(stencil.hi, a, k + length);
     for (int f = 0; f <= Dim; ++f) {
       std::fill(out[f] + k, out[f] + a, 0.0);
       std::fill(out[f] + e, out[f] + k + length, 0.0);
