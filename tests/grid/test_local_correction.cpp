@@ -7,6 +7,7 @@
 #include <random>
 
 #include "grid_test_support.hpp"
+#include "mgelastic/core/error.hpp"
 #include "mgelastic/core/threads.hpp"
 #include "mgelastic/grid/coarsening.hpp"
 #include "mgelastic/grid/convergence_rate.hpp"
@@ -128,6 +129,28 @@ TEST(LocalCorrection, ResultsDoNotDependOnThreadCount) {
   }
   set_thread_count(0);
   EXPECT_EQ(values[0], values[1]);
+}
+
+// A hierarchy given another's placement state and solution continues as that one does, bit for
+// bit (what a checkpoint's resume relies on, sim/grid_stepper.cpp).
+TEST(LocalCorrection, RestoredStateContinuesBitForBit) {
+  const auto problem = two_fingers(32);
+  MultigridOptions options;
+  options.local_corrections = 4;
+  Multigrid<3, float> original(problem, options);
+  original.run_cycles(12);
+  ASSERT_EQ(original.local_corrections(), 1);
+  const auto state = original.local_correction_state();
+  const auto solution = original.solution_state();
+  Multigrid<3, float> resumed(problem, options);
+  resumed.restore_local_correction_state(state);
+  resumed.set_solution_state(solution);
+  EXPECT_EQ(resumed.local_corrections(), 1);
+  EXPECT_EQ(resumed.local_correction_state().integers, state.integers);
+  EXPECT_EQ(original.run_cycles(8).residuals, resumed.run_cycles(8).residuals);
+  auto bad = state;
+  bad.integers.pop_back();
+  EXPECT_THROW(resumed.restore_local_correction_state(bad), Error);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <future>
+#include <map>
 #include <optional>
 #include <type_traits>
 #include <utility>
@@ -741,6 +742,67 @@ void Multigrid<Dim, Scalar>::place_boxes(const std::vector<std::array<IVec<Dim>,
     }
   }
   m_placement_on_trial = m_local != m_local_before;
+}
+
+// Layout of LocalCorrectionState::integers: cycles since the placement, on trial, trial failed,
+// stopped, the sizes of m_local, m_local_before and m_local_fallback, then their boxes (lo, hi).
+template <int Dim, typename Scalar>
+auto Multigrid<Dim, Scalar>::local_correction_state() const -> LocalCorrectionState {
+  LocalCorrectionState state;
+  state.ratio_at_placement = m_ratio_at_placement;
+  auto& v = state.integers;
+  v = {m_cycles_since_placement,
+       m_placement_on_trial,
+       m_trial_failed,
+       m_placement_stopped,
+       static_cast<std::int64_t>(m_local.size()),
+       static_cast<std::int64_t>(m_local_before.size()),
+       static_cast<std::int64_t>(m_local_fallback.size())};
+  for (const auto* list : {&m_local, &m_local_before, &m_local_fallback})
+    for (const auto& local : *list) {
+      for (int a = 0; a < Dim; ++a) v.push_back(local->lo()[a]);
+      for (int a = 0; a < Dim; ++a) v.push_back(local->hi()[a]);
+    }
+  return state;
+}
+
+template <int Dim, typename Scalar>
+void Multigrid<Dim, Scalar>::restore_local_correction_state(const LocalCorrectionState& state) {
+  const auto& v = state.integers;
+  const auto bad = [] { throw Error("malformed local correction state", {.pointer = "grid"}); };
+  if (v.size() < 7) bad();
+  const std::size_t boxes = static_cast<std::size_t>(v[4] + v[5] + v[6]);
+  if (v[4] < 0 || v[5] < 0 || v[6] < 0 || v.size() != 7 + 2 * Dim * boxes) bad();
+  m_cycles_since_placement = static_cast<int>(v[0]);
+  m_placement_on_trial = v[1] != 0;
+  m_trial_failed = v[2] != 0;
+  m_placement_stopped = v[3] != 0;
+  m_ratio_at_placement = state.ratio_at_placement;
+  // One correction per distinct box, shared by the lists that hold it.
+  std::map<std::array<int, 2 * Dim>, std::shared_ptr<LocalCorrection<Dim, Scalar>>> built;
+  std::size_t next = 7;
+  const auto read = [&](std::int64_t count) {
+    std::vector<std::shared_ptr<LocalCorrection<Dim, Scalar>>> list;
+    for (std::int64_t i = 0; i < count; ++i, next += 2 * Dim) {
+      std::array<int, 2 * Dim> key;
+      for (int a = 0; a < 2 * Dim; ++a) key[a] = static_cast<int>(v[next + a]);
+      auto& local = built[key];
+      if (!local) {
+        IVec<Dim> lo, hi;
+        for (int a = 0; a < Dim; ++a) {
+          lo[a] = key[a];
+          hi[a] = key[Dim + a];
+        }
+        local = std::make_shared<LocalCorrection<Dim, Scalar>>(m_levels.front(), m_material,
+                                                               m_inertia, lo, hi);
+      }
+      list.push_back(local);
+    }
+    return list;
+  };
+  m_local = read(v[4]);
+  m_local_before = read(v[5]);
+  m_local_fallback = read(v[6]);
 }
 
 template <int Dim, typename Scalar>

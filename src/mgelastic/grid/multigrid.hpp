@@ -261,6 +261,15 @@ class Multigrid {
   int local_corrections() const { return static_cast<int>(m_local.size()); }
   const LocalCorrection<Dim, Scalar>& local_correction(int i) const { return *m_local[i]; }
   std::size_t local_correction_bytes() const;
+  // The local corrections' boxes and placement state, so that a checkpointed run resumes bit
+  // for bit (the boxes are rebuilt from their coordinates, which gives the same factors):
+  // counters and boxes as integers, the ratio of the last placement.
+  struct LocalCorrectionState {
+    std::vector<std::int64_t> integers;
+    double ratio_at_placement = 0;
+  };
+  LocalCorrectionState local_correction_state() const;
+  void restore_local_correction_state(const LocalCorrectionState& state);
   // Memory of all levels' arrays (the working set of a cycle, without the coarse factor).
   std::size_t bytes() const;
   // bytes() by Level::byte_breakdown group, summed over the levels; the double-precision

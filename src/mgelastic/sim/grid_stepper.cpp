@@ -147,6 +147,9 @@ class GridStepper::Solver {
   virtual double inertia() const { return 0; }
   virtual void save_carried(io::Checkpoint&) const {}
   virtual void restore_carried(const io::Checkpoint&) {}
+  // The linear hierarchy's local corrections (Multigrid::local_correction_state).
+  virtual void save_local_corrections(io::Checkpoint&) const {}
+  virtual void restore_local_corrections(const io::Checkpoint&) {}
   virtual bool single_precision() const { return false; }
   virtual std::size_t bytes() const { return 0; }
   virtual int levels() const = 0;
@@ -205,6 +208,22 @@ class HierarchySolver : public GridStepper::Solver {
     const auto& b = hierarchy().finest().b;
     for (std::size_t f = 0; f < b.size(); ++f) m_single_rhs[f].assign(b[f].begin(), b[f].end());
     return m_single_rhs;
+  }
+  void save_local_corrections(io::Checkpoint& c) const override {
+    const auto state = hierarchy().local_correction_state();
+    c.add<std::int64_t>("grid.local_corrections", state.integers);
+    c.add<double>("grid.local_correction_ratio", std::vector<double>{state.ratio_at_placement});
+  }
+  void restore_local_corrections(const io::Checkpoint& c) override {
+    if (!c.has("grid.local_corrections")) return;  // written before local corrections
+    typename grid::Multigrid<3, Scalar>::LocalCorrectionState state;
+    state.integers = c.get<std::int64_t>("grid.local_corrections");
+    state.ratio_at_placement = c.get<double>("grid.local_correction_ratio", 1)[0];
+    try {
+      hierarchy().restore_local_correction_state(state);
+    } catch (const Error& e) {
+      throw Error(e.reason(), ErrorContext{.file = c.source});
+    }
   }
   void set_right_hand_side(const std::array<grid::FieldArray<double>, 4>& b) override {
     if (!hierarchy().single_precision()) {
@@ -439,6 +458,7 @@ void GridStepper::save(io::Checkpoint& c, const std::vector<io::NamedArray>& att
     c.add_nonzero_runs<double>("grid.x" + std::to_string(f), x[f], ranges);
   c.arrays.insert(c.arrays.end(), attachments.begin(), attachments.end());
   m_solver->save_carried(c);
+  m_solver->save_local_corrections(c);
 }
 
 void GridStepper::restore(const io::Checkpoint& c) {
@@ -448,6 +468,7 @@ void GridStepper::restore(const io::Checkpoint& c) {
     x[f] = stored_field(c, "grid.x" + std::to_string(f), now[f].size());
   m_solver->set_unknowns_state(x);
   m_solver->restore_carried(c);
+  m_solver->restore_local_corrections(c);
   m_time = c.time;
   invalidate();
 }
