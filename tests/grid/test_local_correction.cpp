@@ -68,7 +68,9 @@ TEST(LocalCorrection, SolvesTheBoxRowsExactlyAndLeavesFarRowsAlone) {
   EXPECT_LT(max_abs(level, deep), 1e-9 * scale);
   for (int f = 0; f <= 3; ++f)
     for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(level.size()); ++k)
-      if (far(k)) ASSERT_EQ(level.r[f][k], before[f][k]) << "field " << f << " index " << k;
+      if (far(k)) {
+        ASSERT_EQ(level.r[f][k], before[f][k]) << "field " << f << " index " << k;
+      }
 }
 
 // Two thin fingers one cell apart on a clamped slab: the coarse levels merge them, so their

@@ -220,7 +220,7 @@ int default_boundary_sweeps(double poisson_ratio) {
 
 template <int Dim, typename Scalar>
 Multigrid<Dim, Scalar>::Multigrid(const ElasticityProblem<Dim>& problem, MultigridOptions options)
-    : m_options(options), m_material(problem.material), m_inertia(problem.inertia) {
+    : m_options(options), m_local(options.local_corrections, problem.material, problem.inertia) {
   validate(problem);
   m_options.band_sweep_order = resolved<Dim>(options.band_sweep_order);  // options() reports it
   m_boundary_sweeps = options.boundary_sweeps > 0
@@ -378,8 +378,7 @@ template <int Dim, typename Scalar>
 std::size_t Multigrid<Dim, Scalar>::bytes() const {
   std::size_t total = m_solution ? m_solution->bytes() : 0;
   for (const auto& level : m_levels) total += level.bytes();
-  return total + fused_restriction_bytes() + (m_krylov ? m_krylov->bytes() : 0) +
-         local_correction_bytes();
+  return total + fused_restriction_bytes() + (m_krylov ? m_krylov->bytes() : 0) + m_local.bytes();
 }
 
 template <int Dim, typename Scalar>
@@ -396,7 +395,7 @@ std::vector<ByteShare> Multigrid<Dim, Scalar>::byte_breakdown() const {
       total.push_back(std::move(share));
     }
   if (m_krylov) total.push_back({"accelerated solve's vectors (kept)", m_krylov->bytes()});
-  if (!m_local.empty()) total.push_back({"local corrections", local_correction_bytes()});
+  if (m_local.size() > 0) total.push_back({"local corrections", m_local.bytes()});
   return total;
 }
 
@@ -535,7 +534,7 @@ void Multigrid<Dim, Scalar>::cycle_correction() {
   // leaves at its box's border (after the cycle, that residual raised the residual norm of the
   // cycle that first applied a box, up to 8x).
   Timer timer;
-  for (auto& local : m_local) local->apply(m_levels.front());
+  m_local.apply(m_levels.front());
   m_phases.coarse_solve += timer.seconds();
   correct(0);
 }
@@ -639,177 +638,19 @@ SolveReport Multigrid<Dim, Scalar>::solve(double relative_tolerance, int max_cyc
   return report;
 }
 
-namespace {
-
-// Cells of `level` in the storage coordinates [lo, hi) that are not exterior.
-template <int Dim, typename Scalar>
-std::size_t body_cells_in(const Level<Dim, Scalar>& level, const IVec<Dim>& lo,
-                          const IVec<Dim>& hi) {
-  std::size_t count = 0;
-  if (((hi - lo).array() <= 0).any()) return 0;
-  for (IVec<Dim> s = lo;;) {
-    count += level.cells[level.lattice.index(s)] != CellType::EXTERIOR;
-    int a = 0;
-    while (a < Dim && ++s[a] == hi[a]) {
-      s[a] = lo[a];
-      ++a;
-    }
-    if (a == Dim) return count;
-  }
-}
-
-}  // namespace
-
-template <int Dim, typename Scalar>
-bool Multigrid<Dim, Scalar>::local_corrections_due(int cycles, double ratio, double previous) {
-  m_cycles_since_placement += cycles;
-  if (m_options.local_corrections <= 0 || m_placement_stopped || levels() < 2 ||
-      m_cycles_since_placement < kLocalCorrectionWatch)
-    return false;
-  if (m_placement_on_trial) {
-    m_placement_on_trial = false;
-    const bool passed = ratio < kLocalCorrectionGain * m_ratio_at_placement;
-    if (!passed && m_trial_failed) {
-      m_local = std::move(m_local_fallback);
-      m_placement_stopped = true;
-      return false;
-    }
-    if (!passed) m_local_fallback = m_local_before;
-    m_trial_failed = !passed;
-  }
-  const auto slow = [](double r) { return r > kLocalCorrectionRatio && r < 1.0; };
-  if (!slow(ratio) || !slow(previous)) return false;
-  m_cycles_since_placement = 0;
-  m_ratio_at_placement = ratio;
-  return true;
-}
-
-template <int Dim, typename Scalar>
-int Multigrid<Dim, Scalar>::local_correction_cube() const {
-  return std::clamp(m_levels.front().lattice.cells.maxCoeff() / kLocalCorrectionCubesPerSide, 2, 8);
-}
-
 template <int Dim, typename Scalar>
 void Multigrid<Dim, Scalar>::place_local_corrections(const std::vector<double>& residuals) {
   const std::size_t n = residuals.size();
-  if (n < 3) return;
+  if (n < 3 || levels() < 2) return;
   const auto ratio = [&](std::size_t i) { return residuals[i] / residuals[i - 1]; };
-  if (!local_corrections_due(1, ratio(n - 1), ratio(n - 2))) return;
+  if (!m_local.due(1, ratio(n - 1), ratio(n - 2))) return;
   Timer timer;
   const Level<Dim, Scalar>& fine = m_levels.front();
   // The float level's residual is the correction problem's: the double one, rounded.
-  const int cube = local_correction_cube();
-  place_boxes(slow_mode_boxes<Dim>(fresh_residual_cube_sums(fine, cube), cube, fine.lattice,
-                                   kLocalCorrectionMinShare, kLocalCorrectionCover, cube));
+  const int cube = m_local.cube(fine);
+  m_local.place(fine, slow_mode_boxes<Dim>(fresh_residual_cube_sums(fine, cube), cube, fine.lattice,
+                                           kLocalCorrectionMinShare, kLocalCorrectionCover, cube));
   m_phases.solve_setup += timer.seconds();
-}
-
-template <int Dim, typename Scalar>
-void Multigrid<Dim, Scalar>::place_boxes(const std::vector<std::array<IVec<Dim>, 2>>& boxes) {
-  m_local_before = m_local;
-  Level<Dim, Scalar>& fine = m_levels.front();
-  const auto body =
-      static_cast<double>(std::count_if(fine.cells.begin(), fine.cells.end(),
-                                        [](CellType type) { return type != CellType::EXTERIOR; }));
-  const auto cap = std::min(kLocalCorrectionMaxCells,
-                            std::max(kLocalCorrectionMinCells,
-                                     static_cast<std::size_t>(kLocalCorrectionBodyShare * body)));
-  for (auto [lo, hi] : boxes) {
-    // A box that overlaps boxes placed before replaces them by the union of all.
-    std::vector<std::size_t> overlapping;
-    for (std::size_t i = 0; i < m_local.size(); ++i)
-      if (((lo.array() < m_local[i]->hi().array()) && (m_local[i]->lo().array() < hi.array()))
-              .all())
-        overlapping.push_back(i);
-    bool covered = false;
-    for (std::size_t i : overlapping) {
-      covered = covered || ((lo.array() >= m_local[i]->lo().array()).all() &&
-                            (hi.array() <= m_local[i]->hi().array()).all());
-      lo = lo.cwiseMin(m_local[i]->lo());
-      hi = hi.cwiseMax(m_local[i]->hi());
-    }
-    const bool room =
-        static_cast<int>(m_local.size() - overlapping.size()) < m_options.local_corrections;
-    if (covered || !room || body_cells_in(fine, lo, hi) > cap) continue;
-    try {
-      auto local =
-          std::make_shared<LocalCorrection<Dim, Scalar>>(fine, m_material, m_inertia, lo, hi);
-      for (auto i = overlapping.rbegin(); i != overlapping.rend(); ++i)
-        m_local.erase(m_local.begin() + static_cast<std::ptrdiff_t>(*i));
-      m_local.push_back(std::move(local));
-    } catch (const SingularCoarseLevel&) {
-      // A box whose part of the body the margin does not hold: no correction there.
-    }
-  }
-  m_placement_on_trial = m_local != m_local_before;
-}
-
-// Layout of LocalCorrectionState::integers: cycles since the placement, on trial, trial failed,
-// stopped, the sizes of m_local, m_local_before and m_local_fallback, then their boxes (lo, hi).
-template <int Dim, typename Scalar>
-auto Multigrid<Dim, Scalar>::local_correction_state() const -> LocalCorrectionState {
-  LocalCorrectionState state;
-  state.ratio_at_placement = m_ratio_at_placement;
-  auto& v = state.integers;
-  v = {m_cycles_since_placement,
-       m_placement_on_trial,
-       m_trial_failed,
-       m_placement_stopped,
-       static_cast<std::int64_t>(m_local.size()),
-       static_cast<std::int64_t>(m_local_before.size()),
-       static_cast<std::int64_t>(m_local_fallback.size())};
-  for (const auto* list : {&m_local, &m_local_before, &m_local_fallback})
-    for (const auto& local : *list) {
-      for (int a = 0; a < Dim; ++a) v.push_back(local->lo()[a]);
-      for (int a = 0; a < Dim; ++a) v.push_back(local->hi()[a]);
-    }
-  return state;
-}
-
-template <int Dim, typename Scalar>
-void Multigrid<Dim, Scalar>::restore_local_correction_state(const LocalCorrectionState& state) {
-  const auto& v = state.integers;
-  const auto bad = [] { throw Error("malformed local correction state", {.pointer = "grid"}); };
-  if (v.size() < 7) bad();
-  const std::size_t boxes = static_cast<std::size_t>(v[4] + v[5] + v[6]);
-  if (v[4] < 0 || v[5] < 0 || v[6] < 0 || v.size() != 7 + 2 * Dim * boxes) bad();
-  m_cycles_since_placement = static_cast<int>(v[0]);
-  m_placement_on_trial = v[1] != 0;
-  m_trial_failed = v[2] != 0;
-  m_placement_stopped = v[3] != 0;
-  m_ratio_at_placement = state.ratio_at_placement;
-  // One correction per distinct box, shared by the lists that hold it.
-  std::map<std::array<int, 2 * Dim>, std::shared_ptr<LocalCorrection<Dim, Scalar>>> built;
-  std::size_t next = 7;
-  const auto read = [&](std::int64_t count) {
-    std::vector<std::shared_ptr<LocalCorrection<Dim, Scalar>>> list;
-    for (std::int64_t i = 0; i < count; ++i, next += 2 * Dim) {
-      std::array<int, 2 * Dim> key;
-      for (int a = 0; a < 2 * Dim; ++a) key[a] = static_cast<int>(v[next + a]);
-      auto& local = built[key];
-      if (!local) {
-        IVec<Dim> lo, hi;
-        for (int a = 0; a < Dim; ++a) {
-          lo[a] = key[a];
-          hi[a] = key[Dim + a];
-        }
-        local = std::make_shared<LocalCorrection<Dim, Scalar>>(m_levels.front(), m_material,
-                                                               m_inertia, lo, hi);
-      }
-      list.push_back(local);
-    }
-    return list;
-  };
-  m_local = read(v[4]);
-  m_local_before = read(v[5]);
-  m_local_fallback = read(v[6]);
-}
-
-template <int Dim, typename Scalar>
-std::size_t Multigrid<Dim, Scalar>::local_correction_bytes() const {
-  std::size_t sum = 0;
-  for (const auto& local : m_local) sum += local->bytes();
-  return sum;
 }
 
 template <int Dim, typename Scalar>

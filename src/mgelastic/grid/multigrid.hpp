@@ -16,7 +16,7 @@
 #include "mgelastic/grid/galerkin_coarsest.hpp"
 #include "mgelastic/grid/krylov_workspace.hpp"
 #include "mgelastic/grid/level.hpp"
-#include "mgelastic/grid/local_correction.hpp"
+#include "mgelastic/grid/local_corrections.hpp"
 #include "mgelastic/grid/problem.hpp"
 #include "mgelastic/grid/residual_restriction.hpp"
 #include "mgelastic/grid/solver_health.hpp"
@@ -103,14 +103,12 @@ struct MultigridOptions {
   // and the pages of the loads that hold only zeros (record_zero_loads).
   // The same results either way; false is for comparisons.
   bool release_dead_pages = true;
-  // At most this many local corrections (local_correction.hpp) that solve() places on the
-  // finest level where a slow mode's residual sits: after kLocalCorrectionWatch cycles (since
-  // the start or the last placement) whose last two ratios exceed kLocalCorrectionRatio, boxes
-  // around the cubes holding most of the residual are factored and applied after every cycle
-  // from then on (and in later solves). 0 = none (the library's default, so that rate studies
-  // see the plain cycle; scenes and `bench vcycle --mesh` place up to 4). The armadillo at 256
-  // cells: settled ratio 0.77 -> 0.36, 1e-6 in 18 cycles instead of > 30
-  // (docs/embedded-geometry.md).
+  // At most this many local corrections (local_correction.hpp) of the finest level where a
+  // slow mode's residual sits (local_corrections.hpp: when, where, and when to remove them
+  // again); plain and accelerated solves place them, and every later cycle (in later solves
+  // too) applies them first. 0 = none: the library's default, so that rate studies see the
+  // plain cycle; scenes and `bench vcycle --mesh` place up to 4. The armadillo at 256 cells:
+  // settled ratio 0.77 -> 0.36, 1e-6 in 18 cycles instead of > 30 (docs/embedded-geometry.md).
   int local_corrections = 0;
 };
 
@@ -121,22 +119,6 @@ int default_boundary_sweeps(double poisson_ratio);
 inline constexpr int kMaxDeferredCycles = 8;
 // ... and a deferred cycle whose float residual ratio exceeds this refines (round-off reached).
 inline constexpr double kDeferredStall = 0.9;
-
-// MultigridOptions::local_corrections: when boxes are placed, and their size.
-inline constexpr int kLocalCorrectionWatch = 4;
-inline constexpr double kLocalCorrectionRatio = 0.4;
-inline constexpr double kLocalCorrectionGain = 0.85;
-// Residual cubes of the lattice's longest side / kLocalCorrectionCubesPerSide cells (2 to 8),
-// and boxes that margin around them: a slow mode's extent follows the body's features.
-inline constexpr int kLocalCorrectionCubesPerSide = 32;
-inline constexpr double kLocalCorrectionMinShare = 0.01;  // of the squared residual, per cube
-inline constexpr double kLocalCorrectionCover = 0.9;      // cubes taken until they hold this
-// A box holds at most this share of the level's body cells, or kLocalCorrectionMinCells, and
-// never more than kLocalCorrectionMaxCells: a mode that needs more is not local (its
-// factorization would outweigh the cycles it saves: ~60k unknowns factor in ~1 s).
-inline constexpr double kLocalCorrectionBodyShare = 1.0 / 64;
-inline constexpr std::size_t kLocalCorrectionMinCells = 4096;
-inline constexpr std::size_t kLocalCorrectionMaxCells = 16384;
 
 // Seconds spent per phase, accumulated over cycles (the rows of the paper's Fig. 22, and the
 // cycle's own work around them, so that the phases add up to the solve time). The byte model
@@ -257,19 +239,15 @@ class Multigrid {
   const MultigridOptions& options() const { return m_options; }
   // Bytes of the coarsest level's factor (a coarse solve streams it twice).
   std::size_t coarse_factor_bytes() const { return m_coarse->factor_bytes(); }
-  // The local corrections placed so far (MultigridOptions::local_corrections).
-  int local_corrections() const { return static_cast<int>(m_local.size()); }
-  const LocalCorrection<Dim, Scalar>& local_correction(int i) const { return *m_local[i]; }
-  std::size_t local_correction_bytes() const;
-  // The local corrections' boxes and placement state, so that a checkpointed run resumes bit
-  // for bit (the boxes are rebuilt from their coordinates, which gives the same factors):
-  // counters and boxes as integers, the ratio of the last placement.
-  struct LocalCorrectionState {
-    std::vector<std::int64_t> integers;
-    double ratio_at_placement = 0;
-  };
-  LocalCorrectionState local_correction_state() const;
-  void restore_local_correction_state(const LocalCorrectionState& state);
+  // The local corrections placed so far (MultigridOptions::local_corrections) and their state
+  // for checkpoints (LocalCorrections::State).
+  int local_corrections() const { return m_local.size(); }
+  const LocalCorrection<Dim, Scalar>& local_correction(int i) const { return m_local[i]; }
+  using LocalCorrectionState = typename LocalCorrections<Dim, Scalar>::State;
+  LocalCorrectionState local_correction_state() const { return m_local.state(); }
+  void restore_local_correction_state(const LocalCorrectionState& state) {
+    m_local.restore(m_levels.front(), state);
+  }
   // Memory of all levels' arrays (the working set of a cycle, without the coarse factor).
   std::size_t bytes() const;
   // bytes() by Level::byte_breakdown group, summed over the levels; the double-precision
@@ -307,15 +285,8 @@ class Multigrid {
   // Mixed precision: adds the float level's correction to the double solution, recomputes the
   // residual there (the next correction problem) and returns its norm.
   double refine();
-  // The watch for a slow mode (MultigridOptions::local_corrections): after `cycles` more cycles
-  // whose last ratios per cycle are `ratio` and `previous`, settles a placement's trial and
-  // says whether to place boxes now.
-  bool local_corrections_due(int cycles, double ratio, double previous);
-  // solve()'s watch after each cycle: places boxes from the finest level's residual.
+  // solve()'s watch after each cycle: places local corrections from the finest residual.
   void place_local_corrections(const std::vector<double>& residuals);
-  // Builds corrections for `boxes` (slow_mode_boxes), merging them with overlapping ones.
-  void place_boxes(const std::vector<std::array<IVec<Dim>, 2>>& boxes);
-  int local_correction_cube() const;  // cells per side of slow_mode_boxes' cubes and margin
   // The finest level's band rows by plane (fresh_residual_norm's lines); null with one level.
   const BandRowPlanes* finest_band_planes() const {
     return m_band_row_planes.empty() ? nullptr : &m_band_row_planes.front();
@@ -388,21 +359,7 @@ class Multigrid {
       m_galerkin;  // coarsest_operator != REDISCRETIZED
   MultigridOptions m_options;
   int m_boundary_sweeps = 2;
-  // Local corrections of the finest level (MultigridOptions::local_corrections), what they are
-  // built from, and the cycles since solve() last looked for a slow mode.
-  // A placement is on trial until kLocalCorrectionWatch cycles later: it passes if the ratio
-  // has fallen below kLocalCorrectionGain times the ratio that triggered it. After a failed
-  // trial one more placement may grow the boxes (a first box may hold only part of the mode);
-  // if it fails too, the boxes before the first failure return and no more are placed (the
-  // slow mode is not local).
-  std::vector<std::shared_ptr<LocalCorrection<Dim, Scalar>>> m_local, m_local_before,
-      m_local_fallback;
-  bool m_trial_failed = false;
-  Material m_material;
-  double m_inertia = 0;
-  int m_cycles_since_placement = 0;
-  double m_ratio_at_placement = 0;
-  bool m_placement_on_trial = false, m_placement_stopped = false;
+  LocalCorrections<Dim, Scalar> m_local;  // of the finest level
   PhaseSeconds m_phases;
   CycleMonitor* m_monitor = nullptr;  // non-null only while a diverged solve is replayed
 };

@@ -409,11 +409,12 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
     if (!reason.empty()) diverged(reason);
     // Local corrections from the restart's mean ratio per cycle; s.r holds the true residual.
     const double mean_ratio = std::pow(r_norm / restart_norm, 1.0 / std::max(j, 1));
-    if (r_norm > target && local_corrections_due(j, mean_ratio, mean_ratio)) {
+    if (r_norm > target && levels() > 1 && m_local.due(j, mean_ratio, mean_ratio)) {
       Timer placing;
-      const int cube = local_correction_cube();
-      place_boxes(slow_mode_boxes<Dim>(residual_cube_sums(s, cube), cube, s.lattice,
-                                       kLocalCorrectionMinShare, kLocalCorrectionCover, cube));
+      const int cube = m_local.cube(fine);
+      m_local.place(fine,
+                    slow_mode_boxes<Dim>(residual_cube_sums(s, cube), cube, s.lattice,
+                                         kLocalCorrectionMinShare, kLocalCorrectionCover, cube));
       m_phases.solve_setup += placing.seconds();
     }
     const bool at_floor = estimate_reached && r_norm > target && r_norm > 0.5 * smallest;
