@@ -152,22 +152,44 @@ ElasticityProblem<Dim> irregular_problem(int n, unsigned seed, const Material& m
   return problem;
 }
 
-// A ball (radius 0.45 of the unit box, n cells per axis) whose bottom cap (z < 0.2) is clamped,
-// under gravity: an embedded body whose band has rows of every shape and no mechanisms.
-inline ElasticityProblem<3> clamped_ball(int n) {
+// A problem on the unit box with n cells per axis whose real cells take the type
+// type_of(storage coordinates, cell center) (the ghost ring stays exterior).
+template <typename TypeOf>
+ElasticityProblem<3> typed_unit_box(int n, const Material& material, const TypeOf& type_of) {
   ElasticityProblem<3> problem;
   problem.lattice = Lattice<3>(IVec<3>::Constant(n), 1.0 / n);
-  problem.material = {1e5, 0.48};
+  problem.material = material;
   problem.cells.assign(problem.lattice.size(), CellType::EXTERIOR);
   for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(problem.lattice.size()); ++k) {
     const IVec<3> s = problem.lattice.coords(k);
-    if (!problem.lattice.is_real(s)) continue;
-    const Vec<3> center = problem.lattice.cell_center(k);
-    if ((center - Vec<3>::Constant(0.5)).norm() < 0.45) problem.cells[k] = CellType::INTERIOR;
-    if (center[2] < 0.2 && problem.cells[k] == CellType::INTERIOR)
-      problem.cells[k] = CellType::DIRICHLET;
+    if (problem.lattice.is_real(s)) problem.cells[k] = type_of(s, problem.lattice.cell_center(k));
   }
+  return problem;
+}
+
+// A ball (radius 0.45 of the unit box, n cells per axis) whose bottom cap (z < 0.2) is clamped,
+// under gravity: an embedded body whose band has rows of every shape and no mechanisms.
+inline ElasticityProblem<3> clamped_ball(int n) {
+  auto problem = typed_unit_box(n, {1e5, 0.48}, [](const IVec<3>&, const Vec<3>& center) {
+    if ((center - Vec<3>::Constant(0.5)).norm() >= 0.45) return CellType::EXTERIOR;
+    return center[2] < 0.2 ? CellType::DIRICHLET : CellType::INTERIOR;
+  });
   problem.body_force = [](const Vec<3>&) { return Vec<3>(0, 0, -1e4); };
+  return problem;
+}
+
+// Two thin fingers (2 x 1 cells, one cell apart) standing on a slab clamped at its bottom, n
+// cells per axis, under gravity and a force pulling them apart: the coarse levels merge the
+// fingers, so their opposite bending is a slow mode of the V-cycle that sits at the fingers.
+inline ElasticityProblem<3> two_fingers(int n) {
+  auto problem = typed_unit_box(n, {1e5, 0.45}, [n](const IVec<3>& s, const Vec<3>&) {
+    const bool slab = s[2] <= n / 4;
+    const bool finger = s[2] <= n - 2 && s[1] >= n / 2 - 1 && s[1] <= n / 2 &&
+                        (s[0] == n / 2 - 1 || s[0] == n / 2 + 1);
+    if (s[2] <= 2) return CellType::DIRICHLET;
+    return slab || finger ? CellType::INTERIOR : CellType::EXTERIOR;
+  });
+  problem.body_force = [](const Vec<3>& x) { return Vec<3>(1e3 * (x[0] - 0.5), 0, -1e3); };
   return problem;
 }
 

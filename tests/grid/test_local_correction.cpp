@@ -73,29 +73,10 @@ TEST(LocalCorrection, SolvesTheBoxRowsExactlyAndLeavesFarRowsAlone) {
       }
 }
 
-// Two thin fingers one cell apart on a clamped slab: the coarse levels merge them, so their
-// opposite bending is a slow mode of the V-cycle whose residual sits at the fingers. The
-// corrections solve() places there lift the rate below the plain cycle's.
-ElasticityProblem<3> two_fingers(int n) {
-  ElasticityProblem<3> problem;
-  problem.lattice = Lattice<3>(IVec<3>::Constant(n), 1.0 / n);
-  problem.material = {1e5, 0.45};
-  problem.cells.assign(problem.lattice.size(), CellType::EXTERIOR);
-  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(problem.lattice.size()); ++k) {
-    const IVec<3> s = problem.lattice.coords(k);
-    if (!problem.lattice.is_real(s)) continue;
-    const bool slab = s[2] <= n / 4;
-    const bool finger = s[2] <= n - 2 && s[1] >= n / 2 - 1 && s[1] <= n / 2 &&
-                        (s[0] == n / 2 - 1 || s[0] == n / 2 + 1);
-    if (slab || finger) problem.cells[k] = CellType::INTERIOR;
-    if (s[2] <= 2) problem.cells[k] = CellType::DIRICHLET;
-  }
-  problem.body_force = [](const Vec<3>& x) { return Vec<3>(1e3 * (x[0] - 0.5), 0, -1e3); };
-  return problem;
-}
-
+// The two fingers' slow mode (test::two_fingers): the corrections solve() places there lift the
+// rate far below the plain cycle's.
 TEST(LocalCorrection, MultigridPlacesBoxesWhereASlowModeSits) {
-  const auto problem = two_fingers(32);
+  const auto problem = test::two_fingers(32);
   MultigridOptions plain;
   plain.local_corrections = 0;
   Multigrid<3, float> without(problem, plain);
@@ -116,7 +97,7 @@ TEST(LocalCorrection, MultigridPlacesBoxesWhereASlowModeSits) {
 // The boxes, their placement and their solves do not depend on the thread count: the same
 // residuals and solution, bit for bit.
 TEST(LocalCorrection, ResultsDoNotDependOnThreadCount) {
-  const auto problem = two_fingers(32);
+  const auto problem = test::two_fingers(32);
   MultigridOptions options;
   options.local_corrections = 4;
   std::vector<double> values[2];
@@ -136,7 +117,7 @@ TEST(LocalCorrection, ResultsDoNotDependOnThreadCount) {
 // A hierarchy given another's placement state and solution continues as that one does, bit for
 // bit (what a checkpoint's resume relies on, sim/grid_stepper.cpp).
 TEST(LocalCorrection, RestoredStateContinuesBitForBit) {
-  const auto problem = two_fingers(32);
+  const auto problem = test::two_fingers(32);
   MultigridOptions options;
   options.local_corrections = 4;
   Multigrid<3, float> original(problem, options);
