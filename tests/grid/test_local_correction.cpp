@@ -1,4 +1,5 @@
 #include "mgelastic/grid/local_correction.hpp"
+#include "mgelastic/grid/local_corrections.hpp"
 
 #include <gtest/gtest.h>
 
@@ -71,6 +72,21 @@ TEST(LocalCorrection, SolvesTheBoxRowsExactlyAndLeavesFarRowsAlone) {
       if (far(k)) {
         ASSERT_EQ(level.r[f][k], before[f][k]) << "field " << f << " index " << k;
       }
+}
+
+// A box over clamped cells only has no unknown: the correction refuses it, and a placement
+// skips it and goes on.
+TEST(LocalCorrection, BoxWithoutUnknownsIsSkipped) {
+  const auto problem = test::clamped_ball(24);
+  const auto coarse_cells = coarsen_cells(problem.lattice, problem.cells);
+  const auto level =
+      build_level<3, float>(problem.lattice, problem.cells, problem.material, {}, &coarse_cells);
+  const IVec<3> lo(10, 10, 1), hi(14, 14, 4);  // the clamped cap (z < 0.2)
+  using Correction = LocalCorrection<3, float>;
+  EXPECT_THROW(Correction(level, problem.material, 0.0, lo, hi), Error);
+  LocalCorrections<3, float> corrections(4, problem.material, 0.0);
+  EXPECT_NO_THROW(corrections.place(level, {{lo, hi}}));
+  EXPECT_EQ(corrections.size(), 0);
 }
 
 // The two fingers' slow mode (test::two_fingers): the corrections solve() places there lift the

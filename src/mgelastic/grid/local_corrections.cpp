@@ -97,8 +97,9 @@ void LocalCorrections<Dim, Scalar>::place(const Level<Dim, Scalar>& fine,
       for (auto i = overlapping.rbegin(); i != overlapping.rend(); ++i)
         m_local.erase(m_local.begin() + static_cast<std::ptrdiff_t>(*i));
       m_local.push_back(std::move(local));
-    } catch (const SingularCoarseLevel&) {
-      // A box whose part of the body the margin does not hold: no correction there.
+    } catch (const Error&) {
+      // A box whose system is singular (a part of the body the margin does not hold) or empty
+      // (only clamped cells): no correction there; the solve goes on without it.
     }
   }
   m_placement_on_trial = m_local != m_local_before;
