@@ -85,4 +85,22 @@ struct Lattice {
   std::size_t m_size = 0;
 };
 
+// Calls visit(s) for every s with lo <= s < hi (componentwise), x fastest; none if the box is
+// empty.
+template <int Dim, typename Visit>
+void for_each_coordinate(const IVec<Dim>& lo, const IVec<Dim>& hi, Visit&& visit) {
+  for (int a = 0; a < Dim; ++a)
+    if (lo[a] >= hi[a]) return;
+  IVec<Dim> s = lo;
+  while (true) {
+    visit(s);
+    int a = 0;
+    while (a < Dim && ++s[a] == hi[a]) {
+      s[a] = lo[a];
+      ++a;
+    }
+    if (a == Dim) return;
+  }
+}
+
 }  // namespace mgelastic::grid

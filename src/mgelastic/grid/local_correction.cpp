@@ -1,30 +1,11 @@
 #include "mgelastic/grid/local_correction.hpp"
 
 #include <algorithm>
-#include <map>
-#include <numeric>
 
 #include "mgelastic/grid/boundary_smoother.hpp"
 
 namespace mgelastic::grid {
 namespace {
-
-// Calls visit(t) for every t with lo <= t < hi (componentwise), x fastest.
-template <int Dim, typename Visit>
-void for_each_coordinate(const IVec<Dim>& lo, const IVec<Dim>& hi, Visit&& visit) {
-  for (int a = 0; a < Dim; ++a)
-    if (lo[a] >= hi[a]) return;
-  IVec<Dim> t = lo;
-  while (true) {
-    visit(t);
-    int a = 0;
-    while (a < Dim && ++t[a] == hi[a]) {
-      t[a] = lo[a];
-      ++a;
-    }
-    if (a == Dim) return;
-  }
-}
 
 template <int Dim>
 bool inside(const IVec<Dim>& s, const IVec<Dim>& lo, const IVec<Dim>& hi) {
@@ -84,7 +65,7 @@ LocalCorrection<Dim, Scalar>::LocalCorrection(const Level<Dim, Scalar>& level,
 }
 
 template <int Dim, typename Scalar>
-void LocalCorrection<Dim, Scalar>::apply(Level<Dim, Scalar>& level) {
+void LocalCorrection<Dim, Scalar>::add(Level<Dim, Scalar>& level) {
   // r_R: the stencil rows of the inner cells, then the band rows over their targets.
   m_scratch.resize((Dim + 1) * m_points + std::max(m_band_rows.size(), m_pressure_rows.size()));
   std::array<double*, Dim + 1> r;
@@ -111,6 +92,11 @@ void LocalCorrection<Dim, Scalar>::apply(Level<Dim, Scalar>& level) {
         if (m_box.kind(f, kb + x) == VarKind::INTERIOR)
           level.x[f][kf + x] += static_cast<Scalar>(m_box.x[f][kb + x]);
   }
+}
+
+template <int Dim, typename Scalar>
+void LocalCorrection<Dim, Scalar>::apply(Level<Dim, Scalar>& level) {
+  add(level);
   back_substitute_traction(level);
 }
 
@@ -128,99 +114,25 @@ std::size_t LocalCorrection<Dim, Scalar>::apply_bytes() const {
   return 2 * m_solver->factor_bytes() + 3 * (Dim + 1) * sizeof(double) * m_box.size();
 }
 
-namespace {
-
 template <int Dim>
-std::array<int, Dim> cube_of(const IVec<Dim>& s, int cube) {
-  std::array<int, Dim> key;
-  for (int a = 0; a < Dim; ++a) key[a] = s[a] / cube;
-  return key;
-}
-
-}  // namespace
-
-template <int Dim, typename Scalar>
-CubeSums<Dim> residual_cube_sums(const Level<Dim, Scalar>& level, int cube) {
-  CubeSums<Dim> sums;
-  for (std::size_t k = 0; k < level.size(); ++k) {
-    double square = 0;
-    for (int f = 0; f <= Dim; ++f) square += static_cast<double>(level.r[f][k]) * level.r[f][k];
-    if (square > 0)
-      sums[cube_of<Dim>(level.lattice.coords(static_cast<std::ptrdiff_t>(k)), cube)] += square;
-  }
-  return sums;
-}
-
-template <int Dim, typename Scalar>
-CubeSums<Dim> fresh_residual_cube_sums(const Level<Dim, Scalar>& level, int cube) {
-  CubeSums<Dim> sums;
-  const Lattice<Dim>& lattice = level.lattice;
-  const auto row_length = static_cast<std::uint32_t>(lattice.padded(0));
-  const std::size_t rows = level.size() / row_length;
-  constexpr std::size_t kBatch = 256;  // lattice rows evaluated together (in parallel)
-  std::vector<double> values((Dim + 1) * kBatch * row_length);
-  std::vector<Stretch> stretches;
-  for (std::size_t first = 0; first < rows; first += kBatch) {
-    const std::size_t count = std::min(kBatch, rows - first);
-    stretches.clear();
-    for (std::size_t i = 0; i < count; ++i)
-      stretches.push_back({static_cast<std::ptrdiff_t>((first + i) * row_length), row_length});
-    const std::size_t n = count * row_length;
-    std::array<double*, Dim + 1> r;
-    for (int f = 0; f <= Dim; ++f) r[f] = values.data() + f * n;
-    stencil_residual_at(level, stretches, r);
-    for (std::size_t i = 0; i < n; ++i) {
-      double square = 0;
-      for (int f = 0; f <= Dim; ++f) square += r[f][i] * r[f][i];
-      if (square > 0)
-        sums[cube_of<Dim>(lattice.coords(static_cast<std::ptrdiff_t>(first * row_length + i)),
-                          cube)] += square;
-    }
-  }
-  // The band rows (zero in the stencil pass above).
-  const auto add_rows = [&](std::size_t count, const auto& target, const auto& evaluate) {
-    std::vector<std::uint32_t> all(count);
-    std::iota(all.begin(), all.end(), 0u);
-    std::vector<double> row_values(count);
-    evaluate(all, row_values.data());
-    for (std::size_t m = 0; m < count; ++m)
-      if (row_values[m] != 0)
-        sums[cube_of<Dim>(lattice.coords(target(m)), cube)] += row_values[m] * row_values[m];
-  };
-  add_rows(
-      level.band_kernel.rows(), [&](std::size_t m) { return level.band_kernel.target[m]; },
-      [&](const auto& all, double* out) { band_residual_at(level, all, out); });
-  add_rows(
-      level.band_p.rows(), [&](std::size_t m) { return level.band_p.target_index[m]; },
-      [&](const auto& all, double* out) { band_pressure_residual_at(level, all, out); });
-  return sums;
-}
-
-template <int Dim>
-std::vector<std::array<IVec<Dim>, 2>> slow_mode_boxes(const CubeSums<Dim>& sums, int cube,
-                                                      const Lattice<Dim>& lattice, double min_share,
-                                                      double cover, int margin) {
-  using Key = std::array<int, Dim>;
-  double total = 0;
-  for (const auto& [key, sum] : sums) total += sum;
-  std::vector<std::pair<Key, double>> cubes(sums.begin(), sums.end());
-  std::stable_sort(cubes.begin(), cubes.end(),
-                   [](const auto& a, const auto& b) { return a.second > b.second; });
-  std::vector<Key> chosen;
+std::vector<std::array<IVec<Dim>, 2>> slow_mode_boxes(const std::vector<ResidualBlock<Dim>>& cubes,
+                                                      int cube, const Lattice<Dim>& lattice,
+                                                      double min_share, double cover, int margin) {
+  std::vector<std::array<int, Dim>> chosen;
   double covered = 0;
-  for (const auto& [key, sum] : cubes) {
-    if (!(total > 0) || sum < min_share * total || covered >= cover * total) break;
-    chosen.push_back(key);
-    covered += sum;
+  for (const ResidualBlock<Dim>& c : cubes) {
+    if (c.share < min_share || covered >= cover) break;
+    chosen.push_back(c.first);
+    covered += c.share;
   }
   std::vector<std::array<IVec<Dim>, 2>> boxes;
   const IVec<Dim> lowest = IVec<Dim>::Ones();
   const IVec<Dim> highest = lattice.cells + IVec<Dim>::Ones();
-  for (const Key& key : chosen) {
+  for (const auto& first : chosen) {
     IVec<Dim> lo, hi;
     for (int a = 0; a < Dim; ++a) {
-      lo[a] = key[a] * cube - margin;
-      hi[a] = (key[a] + 1) * cube + margin;
+      lo[a] = first[a] - margin;
+      hi[a] = first[a] + cube + margin;
     }
     boxes.push_back({lo.cwiseMax(lowest), hi.cwiseMin(highest)});
   }
@@ -242,20 +154,13 @@ std::vector<std::array<IVec<Dim>, 2>> slow_mode_boxes(const CubeSums<Dim>& sums,
   return boxes;
 }
 
-#define MGELASTIC_INSTANTIATE(D, S)                                       \
-  template class LocalCorrection<D, S>;                                   \
-  template CubeSums<D> residual_cube_sums<D, S>(const Level<D, S>&, int); \
-  template CubeSums<D> fresh_residual_cube_sums<D, S>(const Level<D, S>&, int);
-MGELASTIC_INSTANTIATE(2, float)
-MGELASTIC_INSTANTIATE(2, double)
-MGELASTIC_INSTANTIATE(3, float)
-MGELASTIC_INSTANTIATE(3, double)
-#undef MGELASTIC_INSTANTIATE
-template std::vector<std::array<IVec<2>, 2>> slow_mode_boxes<2>(const CubeSums<2>&, int,
-                                                                const Lattice<2>&, double, double,
-                                                                int);
-template std::vector<std::array<IVec<3>, 2>> slow_mode_boxes<3>(const CubeSums<3>&, int,
-                                                                const Lattice<3>&, double, double,
-                                                                int);
+template class LocalCorrection<2, float>;
+template class LocalCorrection<2, double>;
+template class LocalCorrection<3, float>;
+template class LocalCorrection<3, double>;
+template std::vector<std::array<IVec<2>, 2>> slow_mode_boxes<2>(
+    const std::vector<ResidualBlock<2>>&, int, const Lattice<2>&, double, double, int);
+template std::vector<std::array<IVec<3>, 2>> slow_mode_boxes<3>(
+    const std::vector<ResidualBlock<3>>&, int, const Lattice<3>&, double, double, int);
 
 }  // namespace mgelastic::grid

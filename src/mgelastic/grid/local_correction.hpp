@@ -14,7 +14,6 @@
 // cubes there after some cycles (residual_blocks.hpp), and an exact solve of a box around them
 // removes it. Multigrid places such boxes itself (MultigridOptions::local_corrections).
 #include <array>
-#include <map>
 #include <memory>
 #include <vector>
 
@@ -22,6 +21,7 @@
 #include "mgelastic/grid/level.hpp"
 #include "mgelastic/grid/material.hpp"
 #include "mgelastic/grid/residual.hpp"
+#include "mgelastic/grid/residual_blocks.hpp"
 
 namespace mgelastic::grid {
 
@@ -32,7 +32,9 @@ class LocalCorrection {
   // Throws SingularCoarseLevel if the box's system is singular.
   LocalCorrection(const Level<Dim, Scalar>& level, const Material& material, double inertia,
                   IVec<Dim> lo, IVec<Dim> hi);
-  // x += the box's exact correction for level's current residual; traction variables follow.
+  // x += the box's exact correction for level's current residual (interior variables only).
+  void add(Level<Dim, Scalar>& level);
+  // add, then the level's traction variables follow (back_substitute_traction).
   void apply(Level<Dim, Scalar>& level);
 
   IVec<Dim> lo() const { return m_lo; }
@@ -58,26 +60,14 @@ class LocalCorrection {
   std::vector<double> m_scratch;
 };
 
-// Sums of squared residuals (every field's rows) over cubes of `cube` cells, keyed by the
-// cube's storage coordinates / cube:
-//   residual_cube_sums: of level.r (update_residual's);
-//   fresh_residual_cube_sums: evaluated lattice row by lattice row, without a residual array
-//     (a slow mode's placement on a level whose cycle keeps no r).
+// Boxes for a slow mode from the residual's cubes of `cube` cells (residual_blocks, largest
+// share first): the cubes taken in that order while each holds at least `min_share` and together
+// they hold less than `cover`, each grown by `margin` cells on every side, merged while any two
+// overlap (clusters of cubes closer than twice the margin end in one box); storage coordinates
+// [lo, hi), clipped to the real cells.
 template <int Dim>
-using CubeSums = std::map<std::array<int, Dim>, double>;
-template <int Dim, typename Scalar>
-CubeSums<Dim> residual_cube_sums(const Level<Dim, Scalar>& level, int cube);
-template <int Dim, typename Scalar>
-CubeSums<Dim> fresh_residual_cube_sums(const Level<Dim, Scalar>& level, int cube);
-
-// Boxes for a slow mode from its residual's cube sums on `lattice`: the cubes holding the
-// largest shares of the squared residual, taken largest first while each holds at least
-// `min_share` and together they hold less than `cover`, each grown by `margin` cells on every
-// side, merged while any two overlap (clusters of cubes closer than twice the margin end in one
-// box); storage coordinates [lo, hi), clipped to the real cells.
-template <int Dim>
-std::vector<std::array<IVec<Dim>, 2>> slow_mode_boxes(const CubeSums<Dim>& sums, int cube,
-                                                      const Lattice<Dim>& lattice, double min_share,
-                                                      double cover, int margin);
+std::vector<std::array<IVec<Dim>, 2>> slow_mode_boxes(const std::vector<ResidualBlock<Dim>>& cubes,
+                                                      int cube, const Lattice<Dim>& lattice,
+                                                      double min_share, double cover, int margin);
 
 }  // namespace mgelastic::grid

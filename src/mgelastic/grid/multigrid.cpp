@@ -648,8 +648,9 @@ void Multigrid<Dim, Scalar>::place_local_corrections(const std::vector<double>& 
   const Level<Dim, Scalar>& fine = m_levels.front();
   // The float level's residual is the correction problem's: the double one, rounded.
   const int cube = m_local.cube(fine);
-  m_local.place(fine, slow_mode_boxes<Dim>(fresh_residual_cube_sums(fine, cube), cube, fine.lattice,
-                                           kLocalCorrectionMinShare, kLocalCorrectionCover, cube));
+  m_local.place(fine,
+                slow_mode_boxes<Dim>(residual_blocks<Dim>(fine, cube, SIZE_MAX), cube, fine.lattice,
+                                     kLocalCorrectionMinShare, kLocalCorrectionCover, cube));
   m_phases.solve_setup += timer.seconds();
 }
 

@@ -407,13 +407,13 @@ SolveReport Multigrid<Dim, Scalar>::solve_accelerated(double relative_tolerance,
     report.residuals.back() = r_norm;
     const std::string reason = divergence_reason(report.residuals);
     if (!reason.empty()) diverged(reason);
-    // Local corrections from the restart's mean ratio per cycle; s.r holds the true residual.
+    // Local corrections from the restart's mean ratio per cycle and the true residual (x held).
     const double mean_ratio = std::pow(r_norm / restart_norm, 1.0 / std::max(j, 1));
     if (r_norm > target && levels() > 1 && m_local.due(j, mean_ratio, mean_ratio)) {
       Timer placing;
       const int cube = m_local.cube(fine);
       m_local.place(fine,
-                    slow_mode_boxes<Dim>(residual_cube_sums(s, cube), cube, s.lattice,
+                    slow_mode_boxes<Dim>(residual_blocks<Dim>(s, cube, SIZE_MAX), cube, s.lattice,
                                          kLocalCorrectionMinShare, kLocalCorrectionCover, cube));
       m_phases.solve_setup += placing.seconds();
     }

@@ -20,9 +20,10 @@ struct ResidualBlock {
 
 // The `count` cubes of `block`^Dim cells with the largest sums of squared residuals (fewer where
 // fewer hold a nonzero residual), largest first; ties in coordinate order. Empty for a zero
-// residual.
-template <int Dim>
-std::vector<ResidualBlock<Dim>> residual_blocks(const Level<Dim, double>& level, int block,
+// residual. The rows are evaluated lattice row by lattice row (no residual array): also for a
+// float level whose cycle keeps none (local corrections, local_corrections.hpp).
+template <int Dim, typename Scalar>
+std::vector<ResidualBlock<Dim>> residual_blocks(const Level<Dim, Scalar>& level, int block,
                                                 std::size_t count);
 
 // The same sum of squared residuals split by field (u_0 .. u_{Dim-1}, p) and by where the row's
