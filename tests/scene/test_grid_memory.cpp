@@ -6,6 +6,9 @@
 #include <string>
 
 #include "mgelastic/core/error.hpp"
+#include "mgelastic/grid/coarsening.hpp"
+#include "mgelastic/grid/local_correction.hpp"
+#include "mgelastic/grid/local_corrections.hpp"
 #include "mgelastic/grid/multigrid.hpp"
 #include "mgelastic/scene/grid_memory.hpp"
 #include "mgelastic/scene/grid_setup.hpp"
@@ -42,6 +45,34 @@ TEST(GridMemory, EstimateCoversTheSolverArraysInEveryPrecision) {
     EXPECT_GT(estimated_grid_bytes(s, cells(setup)), static_cast<double>(solver_bytes(s, setup)))
         << precision;
   }
+}
+
+// The largest box a placement may build, a solid block of kLocalCorrectionMaxCells cells (the
+// most fill per unknown), stays within the estimate's bytes per unknown; the estimate counts
+// solver.local_corrections such boxes.
+TEST(GridMemory, LargestLocalCorrectionBoxFitsItsEstimate) {
+  Scene s = box("float", false);
+  s.resolution = 48;  // 48 x 24 x 24 cells
+  const GridSetup setup = build_grid_setup(s);
+  const auto& problem = setup.problem;
+  const auto coarse = grid::coarsen_cells(problem.lattice, problem.cells);
+  const auto level =
+      grid::build_level<3, float>(problem.lattice, problem.cells, problem.material, {}, &coarse);
+  const grid::IVec<3> lo(10, 1, 1), hi(42, 25, 22);  // 32 x 24 x 21 = 16128 cells
+  ASSERT_LE(static_cast<std::size_t>((hi - lo).prod()), grid::kLocalCorrectionMaxCells);
+  const grid::LocalCorrection<3, float> local(level, problem.material, 0.0, lo, hi);
+  const double per_unknown =
+      static_cast<double>(local.bytes()) / static_cast<double>(local.unknowns());
+  std::printf("largest local correction box: %zu unknowns, %.1f MB, %.0f bytes per unknown\n",
+              local.unknowns(), local.bytes() / 1e6, per_unknown);
+  EXPECT_GT(local.unknowns(), 3u * 16128u);
+  EXPECT_LT(per_unknown, kGridLocalCorrectionBytesPerUnknown);
+  Scene without = s;
+  without.local_corrections = 0;
+  const Eigen::Vector3d n(512, 512, 512);
+  EXPECT_GE(estimated_grid_bytes(s, n) - estimated_grid_bytes(without, n),
+            s.local_corrections * static_cast<double>(grid::kLocalCorrectionMaxCells) * 4 *
+                kGridLocalCorrectionBytesPerUnknown);
 }
 
 TEST(GridMemory, SinglePrecisionAndPlainCyclesAreEstimatedSmaller) {

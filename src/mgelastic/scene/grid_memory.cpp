@@ -1,11 +1,13 @@
 #include "mgelastic/scene/grid_memory.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <string>
 
 #include "mgelastic/core/error.hpp"
+#include "mgelastic/grid/local_corrections.hpp"
 
 namespace mgelastic::scene {
 namespace {
@@ -25,6 +27,17 @@ std::string lattice_text(const Eigen::Vector3d& cells) {
   return text;
 }
 
+// The largest factors solver.local_corrections boxes can hold on a lattice of `points` (the
+// body has at most that many cells).
+double local_correction_bytes(const Scene& scene, double points) {
+  if (scene.local_corrections <= 0) return 0;
+  const double cells =
+      std::min(points, std::min(static_cast<double>(grid::kLocalCorrectionMaxCells),
+                                std::max(static_cast<double>(grid::kLocalCorrectionMinCells),
+                                         grid::kLocalCorrectionBodyShare * points)));
+  return scene.local_corrections * cells * 4.0 * kGridLocalCorrectionBytesPerUnknown;
+}
+
 }  // namespace
 
 double estimated_grid_bytes(const Scene& scene, const Eigen::Vector3d& cells) {
@@ -36,7 +49,8 @@ double estimated_grid_bytes(const Scene& scene, const Eigen::Vector3d& cells) {
                                                     : kGridPeakBytesPerPointDouble;
   // Single precision iterates plain cycles (no double level for FGMRES).
   const bool krylov = scene.accelerate && scene.precision != "single";
-  return padded * (plain + (krylov ? kGridFgmresBytesPerPoint : 0.0)) * kGridPeakMargin;
+  return padded * (plain + (krylov ? kGridFgmresBytesPerPoint : 0.0)) * kGridPeakMargin +
+         local_correction_bytes(scene, padded);
 }
 
 void check_grid_size(const Scene& scene, const Eigen::Vector3d& cells,

@@ -37,11 +37,19 @@ inline constexpr double kGridPeakBytesPerPointCorotated = 8600.0;
 // against 599 MB with plain cycles (2026-12-07, 132^3 points; with the earlier double basis
 // 1920 MB; the first estimate, 228, came from a 2-cycle run whose restart held 3 vectors).
 inline constexpr double kGridFgmresBytesPerPoint = 430.0;
+// solver.local_corrections: each box (grid/local_corrections.hpp) holds at most
+// kLocalCorrectionMaxCells body cells and at most kLocalCorrectionBodyShare of the body, and its
+// sparse Cholesky factor dominates its memory: ~2 KB per unknown for the armadillo's two boxes
+// at 256 cells (158 MB for 25k + 55k unknowns), 2990 bytes for the largest box, a solid block
+// of 16128 cells (57k unknowns, 171 MB; test GridMemory.LargestLocalCorrectionBoxFitsItsEstimate,
+// 2026-12-07). Bound: 4 KB per unknown at (Dim + 1) unknowns per cell.
+inline constexpr double kGridLocalCorrectionBytesPerUnknown = 4000.0;
 // Embedded bodies' band rows, other thread counts and allocator slack.
 inline constexpr double kGridPeakMargin = 1.25;
 
 // Estimated peak memory of the grid scene `scene` whose voxel lattice has `cells` per axis,
-// bytes (its material.model, solver.precision and solver.accelerate).
+// bytes (its material.model, solver.precision, solver.accelerate and solver.local_corrections:
+// every box placed at its largest).
 double estimated_grid_bytes(const Scene& scene, const Eigen::Vector3d& cells);
 
 // Throws Error (pointer /grid/resolution, or /grid/cell_size when the scene sets it) when the

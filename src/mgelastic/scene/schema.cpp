@@ -76,7 +76,8 @@ Field build_schema() {
        integer("resolution",
                "Cells along the longest axis of the body's bounding box. A scene whose lattice "
                "would exceed the solver's 32-bit indices (~1e9 cells) or the memory available "
-               "(estimated at ~470 bytes per lattice cell) is refused before it allocates",
+               "(estimated at ~470 bytes per lattice cell, plus up to ~260 MB per "
+               "`solver.local_corrections` box) is refused before it allocates",
                64, 4),
        integer("padding", "Extra layers of cells around the body (Sec. 9.2)", 0, 0)});
   Field material_region = object(
@@ -203,8 +204,8 @@ Field build_schema() {
                1, 0, 4),
        integer("local_corrections",
                "Exact box solves that plain V-cycles place where a slow mode's residual sits (a "
-               "thin limb the coarse levels merge), at most this many; kept only where they "
-               "speed up the cycles (0 = none)",
+               "thin limb the coarse levels merge), at most this many, each up to ~170 MB of "
+               "factors (16k body cells); kept only where they speed up the cycles (0 = none)",
                4, 0, 16)});
   Field time = object(
       "time", "Frames and time stepping",
