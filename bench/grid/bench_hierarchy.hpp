@@ -1,19 +1,21 @@
 #pragma once
-// What the grid kernel benchmarks run on: the paper's mixed box (Sec. 9.1; nu = 0.48, the lowest
-// eighth clamped, float levels under a double solution level, the V-cycle's defaults) at the
-// benchmark's argument in cells per axis, built once per process and cycled twice so every
-// level holds a non-trivial right-hand side and correction.
+// What the grid kernel benchmarks run on, built once per process and cycled twice so every level
+// holds a non-trivial right-hand side and correction (float levels under a double solution
+// level, the V-cycle's defaults, nu = 0.48):
+//   body 0  the paper's mixed box (Sec. 9.1; the lowest eighth clamped) of `cells` per axis;
+//   body 1  the armadillo of $MGELASTIC_DATA_DIR voxelized at `cells` along its longest axis
+//           (lowest 5 % fixed, gravity, one extra band layer: `mgelastic bench vcycle --mesh`).
+// Counters are per active (INTERIOR) cell of the finest level, issue 24's measure of embedded
+// bodies against the box.
 //
 // Cold runs: a kernel inside a V-cycle finds little of its data in cache (the passes between two
 // calls stream the level's fields), so `cold` benchmarks evict the caches before each call
 // (outside the timing) by writing a buffer twice the last-level cache.
 #include <benchmark/benchmark.h>
 
-#include <map>
 #include <memory>
-#include <vector>
+#include <string>
 
-#include "mgelastic/grid/box_problem.hpp"
 #include "mgelastic/grid/multigrid.hpp"
 
 namespace mgelastic::bench {
@@ -21,34 +23,22 @@ namespace mgelastic::bench {
 struct BenchHierarchy {
   grid::ElasticityProblem<3> problem;
   std::unique_ptr<grid::Multigrid<3, float>> multigrid;
+  std::size_t active_cells = 0;
+  std::string error;  // why it could not be built (multigrid null)
 };
 
-inline grid::Multigrid<3, float>& mixed_box(int cells) {
-  static std::map<int, BenchHierarchy> built;
-  BenchHierarchy& h = built[cells];
-  if (!h.multigrid) {
-    grid::BoxSpec spec;
-    spec.cells = cells;
-    spec.poisson_ratio = 0.48;
-    h.problem = grid::make_box_problem<3>(spec);
-    h.multigrid = std::make_unique<grid::Multigrid<3, float>>(h.problem, grid::MultigridOptions{});
-    h.multigrid->run_cycles(2);
-  }
-  return *h.multigrid;
-}
+const BenchHierarchy& hierarchy(int body, int cells);
 
-inline void evict_caches() {
-  static std::vector<char> buffer(std::size_t(64) << 20);
-  for (std::size_t i = 0; i < buffer.size(); i += 64) buffer[i] = static_cast<char>(buffer[i] + 1);
-  benchmark::DoNotOptimize(buffer.data());
-  benchmark::ClobberMemory();
-}
+// The hierarchy of the benchmark's arguments (body, cells, cold), or null after skipping the
+// benchmark with the reason (no $MGELASTIC_DATA_DIR, a missing mesh).
+grid::Multigrid<3, float>* hierarchy_or_skip(benchmark::State& state);
 
-// Runs `kernel` once per iteration, evicting the caches first (untimed) when the benchmark's
-// second argument is 1.
+void evict_caches();
+
+// Runs `kernel` once per iteration, evicting the caches first (untimed) in cold runs.
 template <typename Kernel>
 void run_kernel(benchmark::State& state, Kernel&& kernel) {
-  const bool cold = state.range(1) == 1;
+  const bool cold = state.range(2) == 1;
   for (auto _ : state) {
     if (cold) {
       state.PauseTiming();
@@ -65,12 +55,11 @@ inline benchmark::Counter per_second(double items) {
   return benchmark::Counter(items, benchmark::Counter::kIsIterationInvariantRate);
 }
 
-// Sizes 16 (the smoke test), 64 and 128, each warm (0) and cold (1).
-inline void box_sizes(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"cells", "cold"});
-  for (int cells : {16, 64, 128})
-    for (int cold : {0, 1}) b->Args({cells, cold});
-  b->Unit(benchmark::kMillisecond)->UseRealTime();
-}
+// The finest level's active cells per second (every kernel reports it).
+void count_active_cells(benchmark::State& state);
+
+// The box at 16 (the smoke test), 64 and 128 cells, the armadillo at 128 and 256, each warm (0)
+// and cold (1).
+void kernel_cases(benchmark::internal::Benchmark* b);
 
 }  // namespace mgelastic::bench

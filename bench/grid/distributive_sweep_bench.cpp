@@ -1,5 +1,5 @@
 // The interior's distributive Gauss-Seidel (grid/distributive_smoother.hpp), one sweep over the
-// finest level. Counter: lattice cells per second.
+// finest level. Counter: active cells per second.
 #include "grid/bench_hierarchy.hpp"
 #include "mgelastic/grid/distributive_smoother.hpp"
 
@@ -7,11 +7,13 @@ namespace mgelastic::bench {
 namespace {
 
 void BM_DistributiveSweep(benchmark::State& state) {
-  auto& level = mixed_box(static_cast<int>(state.range(0))).level(0);
+  auto* found = hierarchy_or_skip(state);
+  if (!found) return;
+  auto& level = found->level(0);
   run_kernel(state, [&] { grid::distributive_sweep(level); });
-  state.counters["cells/s"] = per_second(static_cast<double>(level.size()));
+  count_active_cells(state);
 }
-BENCHMARK(BM_DistributiveSweep)->Apply(box_sizes);
+BENCHMARK(BM_DistributiveSweep)->Apply(kernel_cases);
 
 }  // namespace
 }  // namespace mgelastic::bench
