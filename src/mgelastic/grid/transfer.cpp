@@ -554,30 +554,39 @@ void prolongate_row(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>& fine, 
   for (int i = done; i < fine.lattice.padded(0); ++i) point(i);
 }
 
+// Pressures: piecewise constant injection from interior coarse cells, one fine storage row.
 template <int Dim, typename Scalar>
-void prolongate_displacement(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>& fine,
-                             int field) {
-  for_each_row<Dim>(fine.lattice,
-                    [&](IVec<Dim> s) { prolongate_row<Dim, Scalar>(coarse, fine, field, s); });
+void prolongate_pressure_row(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>& fine,
+                             const IVec<Dim>& s) {
+  const FieldKinds fine_kind = fine.codes.kinds(Dim), coarse_kind = coarse.codes.kinds(Dim);
+  const std::ptrdiff_t base = fine.lattice.index(s);
+  const int n = fine.lattice.cells[0];
+  if (!has_interior(fine_kind + base + 1, n)) return;
+  IVec<Dim> cs;
+  cs[0] = 0;
+  for (int a = 1; a < Dim; ++a) cs[a] = (s[a] - 1) / 2 + 1;
+  const std::ptrdiff_t coarse_base = coarse.lattice.index(cs);  // + cs[0] along x
+  const Scalar* cp = coarse.x[Dim].data() + coarse_base;
+  Scalar* p = fine.x[Dim].data() + base;
+  for (int i = 1; i <= n; ++i) {
+    if (fine_kind[base + i] != VarKind::INTERIOR) continue;
+    const int c = (i - 1) / 2 + 1;
+    if (coarse_kind[coarse_base + c] == VarKind::INTERIOR) p[i] += cp[c];
+  }
 }
 
 }  // namespace
 
 template <int Dim, typename Scalar>
 void prolongate_correction(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>& fine) {
-  for (int field = 0; field < Dim; ++field) prolongate_displacement(coarse, fine, field);
-  // Pressures: piecewise constant injection from interior coarse cells.
-  const FieldKinds fine_kind = fine.codes.kinds(Dim), coarse_kind = coarse.codes.kinds(Dim);
+  // One pass over the fine storage rows, every field of a row in turn (its codes read from
+  // memory once, not once per field); a row in dead chunks (live_chunks.hpp: no variable
+  // there, most rows of an embedded body's bounding box) is skipped without reading them.
   for_each_row<Dim>(fine.lattice, [&](IVec<Dim> s) {
-    IVec<Dim> cs;
-    for (int a = 1; a < Dim; ++a) cs[a] = (s[a] - 1) / 2 + 1;
     const std::ptrdiff_t base = fine.lattice.index(s);
-    for (int i = 1; i <= fine.lattice.cells[0]; ++i) {
-      if (fine_kind[base + i] != VarKind::INTERIOR) continue;
-      cs[0] = (i - 1) / 2 + 1;
-      const std::ptrdiff_t ck = coarse.lattice.index(cs);
-      if (coarse_kind[ck] == VarKind::INTERIOR) fine.x[Dim][base + i] += coarse.x[Dim][ck];
-    }
+    if (!fine.live.any_live(base, base + fine.lattice.padded(0))) return;
+    for (int field = 0; field < Dim; ++field) prolongate_row<Dim, Scalar>(coarse, fine, field, s);
+    prolongate_pressure_row<Dim, Scalar>(coarse, fine, s);
   });
 }
 
