@@ -12,6 +12,7 @@
 
 #include "mgelastic/core/cancellation.hpp"
 #include "mgelastic/core/error.hpp"
+#include "mgelastic/core/threads.hpp"
 #include "mgelastic/core/timer.hpp"
 #include "mgelastic/grid/boundary_smoother.hpp"
 #include "mgelastic/grid/coarsening.hpp"
@@ -133,10 +134,12 @@ void copy_solution_state(const std::array<FieldArray<double>, Fields>& x,
 template <int Dim, typename Scalar>
 void zero_correction(Level<Dim, Scalar>& fine) {
   const auto size = static_cast<std::ptrdiff_t>(fine.size());
+  const std::ptrdiff_t block = interleaved_block((size + kLiveChunk - 1) / kLiveChunk);
   for (int f = 0; f <= Dim; ++f) {
     Scalar* x = fine.x[f].data();
-    // Live chunks only (live_chunks.hpp: the dead ones hold zeros and no memory).
-#pragma omp parallel for schedule(static)
+    // Live chunks only (live_chunks.hpp: the dead ones hold zeros and no memory), interleaved
+    // among the threads (threads.hpp: an embedded body's live chunks are not spread evenly).
+#pragma omp parallel for schedule(static, block)
     for (std::ptrdiff_t begin = 0; begin < size; begin += kLiveChunk) {
       const std::ptrdiff_t end = std::min(begin + kLiveChunk, size);
       if (fine.live.any_live(begin, end)) std::fill(x + begin, x + end, Scalar(0));
@@ -168,7 +171,8 @@ void add_correction(Level<Dim, Scalar>& fine, Level<Dim, double>& solution) {
     // under -ftrapping-math and keep the loop scalar); x + 0 leaves every other x as it was.
     // The chunks are the live chunks' (live_chunks.hpp), so no dead page is written.
     constexpr std::ptrdiff_t chunk = kLiveChunk;
-#pragma omp parallel for schedule(static)
+    const std::ptrdiff_t block = interleaved_block((size + chunk - 1) / chunk);
+#pragma omp parallel for schedule(static, block)
     for (std::ptrdiff_t begin = 0; begin < size; begin += chunk) {
       const std::ptrdiff_t end = std::min(begin + chunk, size);
       if (!fine.live.any_live(begin, end)) continue;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "mgelastic/core/threads.hpp"
 #include "mgelastic/grid/stencil.hpp"
 
 namespace mgelastic::grid {
@@ -147,7 +148,10 @@ void stencil_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Di
   const std::ptrdiff_t chunks = (hi + residual_chunk - 1) / residual_chunk - first_chunk;
   if (chunk_squares)
     chunk_squares->assign(static_cast<std::size_t>(std::max<std::ptrdiff_t>(chunks, 0)), 0.0);
-#pragma omp parallel for schedule(static)
+  // Interleaved blocks of chunks (threads.hpp: an embedded body's live chunks are not spread
+  // evenly over its bounding box).
+  const std::ptrdiff_t block = interleaved_block(chunks);
+#pragma omp parallel for schedule(static, block)
   for (std::ptrdiff_t q = 0; q < chunks; ++q) {
     const std::ptrdiff_t begin = std::max(lo, (first_chunk + q) * residual_chunk);
     const std::ptrdiff_t m = std::min((first_chunk + q + 1) * residual_chunk, hi) - begin;

@@ -1,5 +1,7 @@
 #include "mgelastic/grid/transfer.hpp"
 
+#include "mgelastic/core/threads.hpp"
+
 #include <algorithm>
 #include <array>
 #include <initializer_list>
@@ -54,12 +56,14 @@ Taps prolongation_taps(int s, bool face_centered, bool pressure) {
   return {{m + 1, 0.75}, {(c % 2 == 0 ? m - 1 : m + 1) + 1, 0.25}};
 }
 
-// Calls row(s) for every storage row along axis 0 (s[0] = 0), rows split among threads.
+// Calls row(s) for every storage row along axis 0 (s[0] = 0), rows split among threads in
+// interleaved blocks (threads.hpp: an embedded body's rows with work are not spread evenly).
 template <int Dim, typename F>
 void for_each_row(const Lattice<Dim>& lattice, F&& row) {
   std::ptrdiff_t rows = 1;
   for (int a = 1; a < Dim; ++a) rows *= lattice.padded(a);
-#pragma omp parallel for schedule(static)
+  const std::ptrdiff_t block = interleaved_block(rows);
+#pragma omp parallel for schedule(static, block)
   for (std::ptrdiff_t r = 0; r < rows; ++r) {
     IVec<Dim> s;
     s[0] = 0;
