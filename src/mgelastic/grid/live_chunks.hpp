@@ -24,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include "mgelastic/core/threads.hpp"
 #include "mgelastic/grid/field_array.hpp"
 #include "mgelastic/grid/lattice.hpp"
 
@@ -84,21 +85,29 @@ void zero_live(T* v, std::ptrdiff_t begin, std::ptrdiff_t end, const LiveChunks&
     std::fill(v + lo, v + hi, T(0));
   });
 }
-template <typename T>
-void zero_live(FieldArray<T>& v, const LiveChunks& live) {
-  zero_live(v.data(), 0, static_cast<std::ptrdiff_t>(v.size()), live);
-}
 
 // visit(lo, hi) for every live chunk [lo, hi) of an array of n values, chunks spread over the
 // threads (visits must be independent): whole-lattice passes that skip the dead chunks, whose
 // reads would each fault in a zero page.
+// Chunks go to the threads in interleaved blocks (threads.hpp: the live chunks of an embedded
+// body are not spread evenly over its bounding box).
 template <typename Visit>
 void parallel_for_each_live_chunk(const LiveChunks& live, std::ptrdiff_t n, Visit&& visit) {
-#pragma omp parallel for schedule(static)
+  const std::ptrdiff_t block = interleaved_block((n + kLiveChunk - 1) / kLiveChunk);
+#pragma omp parallel for schedule(static, block)
   for (std::ptrdiff_t lo = 0; lo < n; lo += kLiveChunk) {
     const std::ptrdiff_t hi = std::min(lo + kLiveChunk, n);
     if (live.any_live(lo, hi)) visit(lo, hi);
   }
+}
+
+// Zeroes the live chunks of a whole array, in parallel.
+template <typename T>
+void zero_live(FieldArray<T>& v, const LiveChunks& live) {
+  T* data = v.data();
+  parallel_for_each_live_chunk(
+      live, static_cast<std::ptrdiff_t>(v.size()),
+      [&](std::ptrdiff_t lo, std::ptrdiff_t hi) { std::fill(data + lo, data + hi, T(0)); });
 }
 
 // zero_live that writes only the live chunks holding a nonzero: pages of a right-hand side that
