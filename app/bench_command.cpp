@@ -18,7 +18,6 @@
 #include "mgelastic/core/system_memory.hpp"
 #include "mgelastic/core/threads.hpp"
 #include "mgelastic/core/timer.hpp"
-#include "mgelastic/geometry/surface_mesh_readers.hpp"
 #include "mgelastic/grid/box_problem.hpp"
 #include "mgelastic/grid/cg_baseline.hpp"
 #include "mgelastic/grid/convergence_rate.hpp"
@@ -33,6 +32,7 @@
 #include "mgelastic/io/synthetic_lattice_frame.hpp"
 #include "mgelastic/io/vtk_writers.hpp"
 #include "mgelastic/scene/grid_setup.hpp"
+#include "mgelastic/scene/mesh_benchmark_scene.hpp"
 #include "mgelastic/scene/scene.hpp"
 #include "mgelastic/tet/step_benchmark.hpp"
 #include "mgelastic/validation/validation_suite.hpp"
@@ -436,19 +436,8 @@ nlohmann::json mesh_vcycle(const std::string& file, int resolution, const BoxBen
   if (resolution < 8)
     throw Error("must be at least 8 (got " + std::to_string(resolution) + ")",
                 {.pointer = "--resolution"});
-  const geometry::TriangleMesh mesh = geometry::read_surface_mesh(file);
-  const Eigen::Vector3d lo = mesh.vertices.colwise().minCoeff().transpose();
-  const Eigen::Vector3d hi = mesh.vertices.colwise().maxCoeff().transpose();
-  const Eigen::Vector3d extent = hi - lo, center = 0.5 * (lo + hi);
-  const nlohmann::json document = {
-      {"geometry", {{"mesh", file}}},
-      {"grid", {{"resolution", resolution}, {"padding", 1}}},
-      {"material", {{"youngs_modulus", o.youngs}, {"poisson_ratio", o.poisson}, {"density", 1000}}},
-      {"constraints",
-       {{{"region",
-          {{"box",
-            {{"center", {center.x(), lo.y(), center.z()}},
-             {"size", {2 * extent.x(), 0.1 * extent.y(), 2 * extent.z()}}}}}}}}}};
+  const nlohmann::json document =
+      scene::mesh_benchmark_scene(file, resolution, o.youngs, o.poisson);
   const Timer scene_timer;  // voxelization, cell types, loads: what precedes the solver's setup
   const scene::GridSetup setup =
       scene::build_grid_setup(scene::parse_scene(document, "bench.json", "."));

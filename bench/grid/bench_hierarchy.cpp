@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "mgelastic/core/error.hpp"
-#include "mgelastic/geometry/surface_mesh_readers.hpp"
 #include "mgelastic/grid/box_problem.hpp"
 #include "mgelastic/scene/grid_setup.hpp"
+#include "mgelastic/scene/mesh_benchmark_scene.hpp"
 
 namespace mgelastic::bench {
 namespace {
@@ -21,19 +21,7 @@ grid::ElasticityProblem<3> armadillo(int cells) {
   const char* data = std::getenv("MGELASTIC_DATA_DIR");
   if (!data || !*data) throw Error("MGELASTIC_DATA_DIR is not set (the armadillo's directory)");
   const std::string file = (std::filesystem::path(data) / "armadillo.obj").string();
-  const geometry::TriangleMesh mesh = geometry::read_surface_mesh(file);
-  const Eigen::Vector3d lo = mesh.vertices.colwise().minCoeff().transpose();
-  const Eigen::Vector3d hi = mesh.vertices.colwise().maxCoeff().transpose();
-  const Eigen::Vector3d extent = hi - lo, center = 0.5 * (lo + hi);
-  const nlohmann::json document = {
-      {"geometry", {{"mesh", file}}},
-      {"grid", {{"resolution", cells}, {"padding", 1}}},
-      {"material", {{"youngs_modulus", 1e5}, {"poisson_ratio", kPoissonRatio}, {"density", 1000}}},
-      {"constraints",
-       {{{"region",
-          {{"box",
-            {{"center", {center.x(), lo.y(), center.z()}},
-             {"size", {2 * extent.x(), 0.1 * extent.y(), 2 * extent.z()}}}}}}}}}};
+  const nlohmann::json document = scene::mesh_benchmark_scene(file, cells, 1e5, kPoissonRatio);
   return scene::build_grid_setup(scene::parse_scene(document, "bench.json", ".")).problem;
 }
 
