@@ -1,11 +1,11 @@
 #include "mgelastic/grid/transfer.hpp"
 
-#include "mgelastic/core/threads.hpp"
-
 #include <algorithm>
 #include <array>
 #include <initializer_list>
 #include <type_traits>
+
+#include "mgelastic/core/threads.hpp"
 
 namespace mgelastic::grid {
 namespace {
