@@ -4,6 +4,7 @@
 #include <string>
 #include <type_traits>
 #include <unordered_map>
+#include <utility>
 
 #include "mgelastic/core/bytes.hpp"
 #include "mgelastic/grid/level.hpp"
@@ -15,7 +16,24 @@ std::size_t BandKernel<Scalar>::bytes() const {
          vector_bytes(constant) + vector_bytes(rhs) + vector_bytes(start) +
          vector_bytes(schur_diagonal) + vector_bytes(pressure_offset) +
          vector_bytes(pressure_factor) + vector_bytes(pressure_count) + vector_bytes(entry_field) +
-         vector_bytes(entry_offset) + vector_bytes(entry_value);
+         vector_bytes(entry_offset) + vector_bytes(entry_value) + vector_bytes(entry_bytes) +
+         vector_bytes(entry_bytes_for);
+}
+
+template <typename Scalar>
+void address_entries(BandKernel<Scalar>& kernel, const Scalar* const* x, int fields) {
+  std::vector<std::uintptr_t> addresses(static_cast<std::size_t>(fields));
+  for (int f = 0; f < fields; ++f) addresses[f] = reinterpret_cast<std::uintptr_t>(x[f]);
+  if (addresses == kernel.entry_bytes_for &&
+      kernel.entry_bytes.size() == kernel.entry_offset.size())
+    return;
+  kernel.entry_bytes.resize(kernel.entry_offset.size());
+  for (std::size_t e = 0; e < kernel.entry_bytes.size(); ++e)
+    kernel.entry_bytes[e] =
+        static_cast<std::intptr_t>(addresses[kernel.entry_field[e]] - addresses[0]) +
+        static_cast<std::intptr_t>(kernel.entry_offset[e]) *
+            static_cast<std::intptr_t>(sizeof(Scalar));
+  kernel.entry_bytes_for = std::move(addresses);
 }
 
 template <int Dim, typename Scalar>
@@ -81,6 +99,8 @@ void drop_band_csr(Level<Dim, Scalar>& level) {
 
 template struct BandKernel<float>;
 template struct BandKernel<double>;
+template void address_entries<float>(BandKernel<float>&, const float* const*, int);
+template void address_entries<double>(BandKernel<double>&, const double* const*, int);
 template void build_band_kernel<2, float>(Level<2, float>&);
 template void build_band_kernel<2, double>(Level<2, double>&);
 template void build_band_kernel<3, float>(Level<3, float>&);

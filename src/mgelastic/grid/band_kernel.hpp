@@ -42,6 +42,12 @@ struct BandKernel {
   std::vector<std::uint8_t> entry_field;
   std::vector<std::int32_t> entry_offset;
   std::vector<Scalar> entry_value;
+  // Per pattern entry, the byte distance of its value from the row's own point of field 0,
+  // (x[field] - x[0]) + offset * sizeof(Scalar), for the field arrays at entry_bytes_for
+  // (address_entries). The sweeps read a row's values through that one base address: they are
+  // bound by the instructions per entry, and a field pointer per entry costs two more.
+  std::vector<std::intptr_t> entry_bytes;
+  std::vector<std::uintptr_t> entry_bytes_for;
 
   std::size_t rows() const { return pattern.size(); }
   std::size_t patterns() const { return schur_diagonal.size(); }
@@ -67,6 +73,11 @@ struct BandKernel {
 
 template <int Dim, typename Scalar>
 void build_band_kernel(Level<Dim, Scalar>& level);
+
+// Builds kernel.entry_bytes for the field arrays x[0..fields) unless it is built for these
+// addresses already (a copied level has new arrays; a moved one keeps them).
+template <typename Scalar>
+void address_entries(BandKernel<Scalar>& kernel, const Scalar* const* x, int fields);
 
 // Frees band_u's CSR rows, Schur diagonals and pressure factors (all held by the kernel). Only
 // after everything built from them (blocks, schedules, runs) exists.

@@ -54,9 +54,21 @@ struct BandSweep {
         block_inverse(level.band_block_inverse.data()),
         inverse_id(level.band_block_inverse_id.data()) {
     for (int f = 0; f <= Dim; ++f) x[f] = level.x[f].data();
+    address_entries(level.band_kernel, x.data(), Dim + 1);
   }
 
-  Scalar residual(std::uint32_t m) const { return kernel.rhs[m] - kernel.row_sum(x, m); }
+  // rhs - BandKernel::row_sum: the same products summed in the same order, read through
+  // entry_bytes. Not vectorized: GCC's emulated gathers for these short loops cost more.
+  [[gnu::optimize("no-tree-vectorize")]] Scalar residual(std::uint32_t m) const {
+    const std::uint32_t p = kernel.pattern[m];
+    const std::uintptr_t self = reinterpret_cast<std::uintptr_t>(x[0] + kernel.target[m]);
+    const std::intptr_t* bytes = kernel.entry_bytes.data();
+    const Scalar* value = kernel.entry_value.data();
+    Scalar sum = 0;
+    for (std::uint32_t e = kernel.start[p]; e < kernel.start[p + 1]; ++e)
+      sum += value[e] * *reinterpret_cast<const Scalar*>(self + bytes[e]);
+    return kernel.rhs[m] - sum;
+  }
 
   // Moves the row's variable and keeps its eliminated pressures exact.
   void move(std::uint32_t m, Scalar delta) const {
