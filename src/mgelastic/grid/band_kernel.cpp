@@ -87,6 +87,10 @@ void build_band_kernel(Level<Dim, Scalar>& level) {
     kernel.pressure_count.push_back(count);
   }
   level.band_kernel = std::move(kernel);
+  if (level.x[0].size() != level.size()) return;  // no arrays yet: the first sweep addresses
+  std::array<const Scalar*, Dim + 1> x;
+  for (int f = 0; f <= Dim; ++f) x[f] = level.x[f].data();
+  address_entries(level.band_kernel, x.data(), Dim + 1);
 }
 
 template <int Dim, typename Scalar>

@@ -69,6 +69,28 @@ struct BandKernel {
       sum += entry_value[e] * x[entry_field[e]][self + entry_offset[e]];
     return sum;
   }
+  // Whether entry_bytes is built for the arrays of x (address_entries).
+  template <typename X>
+  bool addressed_for(const X& x) const {
+    if (entry_bytes.size() != entry_offset.size() || entry_bytes_for.size() != x.size())
+      return false;
+    for (std::size_t f = 0; f < x.size(); ++f)
+      if (entry_bytes_for[f] != reinterpret_cast<std::uintptr_t>(&x[f][0])) return false;
+    return true;
+  }
+  // row_sum through entry_bytes (x0: field 0 of the arrays it is built for): the same products
+  // in the same order. Not vectorized: GCC's emulated gathers for these short loops cost more.
+  [[gnu::optimize("no-tree-vectorize")]] Scalar addressed_row_sum(const Scalar* x0,
+                                                                  std::size_t m) const {
+    const std::uint32_t p = pattern[m];
+    const std::uintptr_t self = reinterpret_cast<std::uintptr_t>(x0 + target[m]);
+    const std::intptr_t* bytes = entry_bytes.data();
+    const Scalar* value = entry_value.data();
+    Scalar sum = 0;
+    for (std::uint32_t e = start[p]; e < start[p + 1]; ++e)
+      sum += value[e] * *reinterpret_cast<const Scalar*>(self + bytes[e]);
+    return sum;
+  }
 };
 
 template <int Dim, typename Scalar>

@@ -57,17 +57,8 @@ struct BandSweep {
     address_entries(level.band_kernel, x.data(), Dim + 1);
   }
 
-  // rhs - BandKernel::row_sum: the same products summed in the same order, read through
-  // entry_bytes. Not vectorized: GCC's emulated gathers for these short loops cost more.
-  [[gnu::optimize("no-tree-vectorize")]] Scalar residual(std::uint32_t m) const {
-    const std::uint32_t p = kernel.pattern[m];
-    const std::uintptr_t self = reinterpret_cast<std::uintptr_t>(x[0] + kernel.target[m]);
-    const std::intptr_t* bytes = kernel.entry_bytes.data();
-    const Scalar* value = kernel.entry_value.data();
-    Scalar sum = 0;
-    for (std::uint32_t e = kernel.start[p]; e < kernel.start[p + 1]; ++e)
-      sum += value[e] * *reinterpret_cast<const Scalar*>(self + bytes[e]);
-    return kernel.rhs[m] - sum;
+  Scalar residual(std::uint32_t m) const {
+    return kernel.rhs[m] - kernel.addressed_row_sum(x[0], m);
   }
 
   // Moves the row's variable and keeps its eliminated pressures exact.
@@ -218,7 +209,13 @@ template <int Dim, typename Scalar>
 void back_substitute_traction(Level<Dim, Scalar>& level) {
   const Scalar h = static_cast<Scalar>(level.lattice.h);
   const Scalar mu = level.mu;
-  for (const auto& rule : level.traction.normal) {
+  // Normal rules are independent: each writes its own traction face from a face that is not
+  // one (two traction faces of a cell make a thin rule) and a pressure.
+  const auto& normal = level.traction.normal;
+  const auto normal_count = static_cast<std::ptrdiff_t>(normal.size());
+#pragma omp parallel for schedule(static) if (normal_count > 4096)
+  for (std::ptrdiff_t q = 0; q < normal_count; ++q) {
+    const auto& rule = normal[q];
     // P_ii = 2 mu (u_upper - u_lower) / h - mu p = sigma.
     level.at(rule.face) =
         level.at(rule.partner) + rule.sign * h * (rule.sigma + mu * level.at(rule.cell)) / (2 * mu);
@@ -231,7 +228,13 @@ void back_substitute_traction(Level<Dim, Scalar>& level) {
     level.at(rule.lower) = mean - half_jump;
     level.at(rule.upper) = mean + half_jump;
   }
-  for (const auto& rule : level.traction.shear) {
+  // Shear rules are independent too: their candidates read only faces known after the normal
+  // pass (build_traction_rules), never a face set by a shear rule.
+  const auto& shear = level.traction.shear;
+  const auto shear_count = static_cast<std::ptrdiff_t>(shear.size());
+#pragma omp parallel for schedule(static) if (shear_count > 4096)
+  for (std::ptrdiff_t q = 0; q < shear_count; ++q) {
+    const auto& rule = shear[q];
     Scalar sum = 0;
     for (const auto& c : level.traction.candidates(rule))
       sum += level.at(c.partner) + c.sign * (level.at(c.plus) - level.at(c.minus)) + c.sigma_term;

@@ -176,11 +176,15 @@ Scalar load_at(const Level<Dim, Scalar>& level, int field, std::size_t k) {
 
 // The residual of band momentum row m (compact form, band_kernel.hpp; the CSR rows may be
 // dropped) and of band pressure row m (d0 = mu^2 / lambda).
+// `addressed`: kernel.addressed_for(level.x) (the same sum, fewer instructions per entry).
 template <int Dim, typename Scalar>
-Scalar band_momentum_residual(const Level<Dim, Scalar>& level, std::size_t m) {
+Scalar band_momentum_residual(const Level<Dim, Scalar>& level, std::size_t m,
+                              bool addressed = false) {
   const BandKernel<Scalar>& kernel = level.band_kernel;
   const std::uint32_t k = kernel.target[m];
-  return load_at(level, kernel.field[m], k) - kernel.constant[m] - kernel.row_sum(level.x, m);
+  const Scalar sum =
+      addressed ? kernel.addressed_row_sum(level.x[0].data(), m) : kernel.row_sum(level.x, m);
+  return load_at(level, kernel.field[m], k) - kernel.constant[m] - sum;
 }
 template <int Dim, typename Scalar>
 Scalar band_pressure_residual(const Level<Dim, Scalar>& level, std::size_t m, Scalar d0) {
@@ -246,6 +250,7 @@ void band_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Dim +
     for (Scalar v : values) *squares += static_cast<double>(v) * v;
   };
   const BandKernel<Scalar>& kernel = level.band_kernel;
+  const bool addressed = kernel.addressed_for(level.x);
   keep(kernel.rows());
   const auto store = [&](std::uint32_t m, Scalar value) {
     if (write) r[kernel.field[m]][kernel.target[m]] = static_cast<Out>(value);
@@ -259,13 +264,13 @@ void band_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Dim +
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t i = 0; i < outside; ++i) {
       const std::uint32_t m = planes->momentum_rows[i];
-      store(m, band_momentum_residual(level, m));
+      store(m, band_momentum_residual(level, m, addressed));
     }
   } else {
     const auto u_count = static_cast<std::ptrdiff_t>(kernel.rows());
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t m = 0; m < u_count; ++m)
-      store(static_cast<std::uint32_t>(m), band_momentum_residual(level, m));
+      store(static_cast<std::uint32_t>(m), band_momentum_residual(level, m, addressed));
   }
   if (squares) add_squares();
   if (level.lambda <= 0) return;
@@ -351,10 +356,11 @@ void residual_planes(const Level<Dim, Scalar>& level, const BandRowPlanes& band_
       line_residuals(level, band_planes.lines[i], [&](std::uint32_t m, Scalar value) {
         r[kernel.field[m]][kernel.target[m]] = value;
       });
+  const bool addressed = kernel.addressed_for(level.x);
   for (std::uint32_t i = band_planes.momentum_start[first]; i < band_planes.momentum_start[end];
        ++i) {
     const std::uint32_t m = band_planes.momentum_rows[i];
-    r[kernel.field[m]][kernel.target[m]] = band_momentum_residual(level, m);
+    r[kernel.field[m]][kernel.target[m]] = band_momentum_residual(level, m, addressed);
   }
   if (level.lambda <= 0) return;
   const auto& p_rows = level.band_p;
