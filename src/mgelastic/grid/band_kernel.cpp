@@ -87,10 +87,42 @@ void build_band_kernel(Level<Dim, Scalar>& level) {
     kernel.pressure_count.push_back(count);
   }
   level.band_kernel = std::move(kernel);
+  build_band_pressure_kernel(level);
   if (level.x[0].size() != level.size()) return;  // no arrays yet: the first sweep addresses
   std::array<const Scalar*, Dim + 1> x;
   for (int f = 0; f <= Dim; ++f) x[f] = level.x[f].data();
   address_entries(level.band_kernel, x.data(), Dim + 1);
+  address_entries(level.band_p_kernel, x.data(), Dim + 1);
+}
+
+template <int Dim, typename Scalar>
+void build_band_pressure_kernel(Level<Dim, Scalar>& level) {
+  const SparseRows<Scalar>& rows = level.band_p;
+  BandKernel<Scalar> kernel;
+  kernel.pattern.reserve(rows.rows());
+  kernel.target = rows.target_index;
+  std::unordered_map<std::string, std::uint32_t> ids;
+  std::string key;
+  for (std::size_t m = 0; m < rows.rows(); ++m) {
+    const auto self = static_cast<std::int64_t>(rows.target_index[m]);
+    key.clear();
+    for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e) {
+      append_bytes(key, rows.column_field[e]);
+      append_bytes(key, static_cast<std::int32_t>(rows.column_index[e] - self));
+      append_bytes(key, rows.value[e]);
+    }
+    const auto [it, added] =
+        ids.try_emplace(key, static_cast<std::uint32_t>(kernel.start.size() - 1));
+    kernel.pattern.push_back(it->second);
+    if (!added) continue;
+    for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e) {
+      kernel.entry_field.push_back(rows.column_field[e]);
+      kernel.entry_offset.push_back(static_cast<std::int32_t>(rows.column_index[e] - self));
+      kernel.entry_value.push_back(rows.value[e]);
+    }
+    kernel.start.push_back(static_cast<std::uint32_t>(kernel.entry_value.size()));
+  }
+  level.band_p_kernel = std::move(kernel);
 }
 
 template <int Dim, typename Scalar>
@@ -106,9 +138,13 @@ template struct BandKernel<double>;
 template void address_entries<float>(BandKernel<float>&, const float* const*, int);
 template void address_entries<double>(BandKernel<double>&, const double* const*, int);
 template void build_band_kernel<2, float>(Level<2, float>&);
+template void build_band_pressure_kernel<2, float>(Level<2, float>&);
 template void build_band_kernel<2, double>(Level<2, double>&);
+template void build_band_pressure_kernel<2, double>(Level<2, double>&);
 template void build_band_kernel<3, float>(Level<3, float>&);
+template void build_band_pressure_kernel<3, float>(Level<3, float>&);
 template void build_band_kernel<3, double>(Level<3, double>&);
+template void build_band_pressure_kernel<3, double>(Level<3, double>&);
 template void drop_band_csr<2, float>(Level<2, float>&);
 template void drop_band_csr<2, double>(Level<2, double>&);
 template void drop_band_csr<3, float>(Level<3, float>&);

@@ -96,6 +96,14 @@ struct BandKernel {
 template <int Dim, typename Scalar>
 void build_band_kernel(Level<Dim, Scalar>& level);
 
+// level.band_p_kernel from level.band_p: per row its pattern and target (the cell's pressure);
+// per pattern its entries (field, offset, value), entry order and values those of band_p, so
+// sums round as with its CSR rows. The other per-row and per-pattern arrays stay empty (band_p
+// keeps the constants, Level::band_p_inverse the inverses). Called by build_band_kernel and,
+// where band_p's rows changed, by update_band_pressures.
+template <int Dim, typename Scalar>
+void build_band_pressure_kernel(Level<Dim, Scalar>& level);
+
 // Builds kernel.entry_bytes for the field arrays x[0..fields) unless it is built for these
 // addresses already (a copied level has new arrays; a moved one keeps them).
 template <typename Scalar>

@@ -21,15 +21,12 @@ double real_cells(const Level<Dim, Scalar>& level) {
   return cells;
 }
 
-// Stored rows streamed once: target (field + index), start, constant, b at the target, and the
-// entries' (field, index, value); `per_row` more scalars per row (written values).
-template <typename Scalar>
-double sparse_rows_bytes(const SparseRows<Scalar>& rows, double per_row_scalars) {
+// Band pressure rows from their compact form (Level::band_p_kernel): pattern, target, constant,
+// b read and `per_row_scalars` more scalars (inverse, written values); the patterns stay cached.
+template <int Dim, typename Scalar>
+double band_pressure_rows_bytes(const Level<Dim, Scalar>& level, double per_row_scalars) {
   constexpr double S = sizeof(Scalar);
-  const double count = static_cast<double>(rows.rows());
-  const double entries = static_cast<double>(rows.entries());
-  return count * (kField + 2 * kIndex + (2 + per_row_scalars) * S) +
-         entries * (kField + kIndex + S);
+  return static_cast<double>(level.band_p.rows()) * (2 * kIndex + (2 + per_row_scalars) * S);
 }
 
 // Band momentum rows relaxed once each: compact row (pattern, target, field), rhs, own variable
@@ -63,8 +60,8 @@ template <int Dim, typename Scalar>
 double band_call_bytes(const Level<Dim, Scalar>& level, int sweeps,
                        const std::vector<std::uint32_t>* subset, bool refresh = true) {
   const std::size_t rows = subset ? subset->size() : level.band_kernel.rows();
-  // The exact pressure update: band_p rows with their inverse, p written.
-  const double pressures = sparse_rows_bytes(level.band_p, 1) + bytes_of(level.band_p_inverse);
+  // The exact pressure update: band pressure rows with their inverse, p written.
+  const double pressures = band_pressure_rows_bytes(level, 2);
   return pressures + (refresh ? band_rhs_bytes<Scalar>(rows) : 0.0) +
          sweeps * band_row_relaxations(level, rows, subset);
 }
@@ -117,7 +114,7 @@ double residual_bytes(const Level<Dim, Scalar>& level) {
   // r written, the row's own neighbourhood of x (~ one cache line per row).
   const double band_u =
       static_cast<double>(level.band_kernel.rows()) * (2 * kIndex + kField + 3 * S);
-  const double band = band_u + sparse_rows_bytes(level.band_p, 3);
+  const double band = band_u + band_pressure_rows_bytes(level, 3);
   return stencil + band;
 }
 

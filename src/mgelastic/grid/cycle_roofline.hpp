@@ -13,8 +13,9 @@
 // right-hand side and eliminated pressures are counted per row.
 //   interior_smoothing  per smoothing, per momentum field i: read x (F), b_i, relaxation_i;
 //                       write u_i, p; pressure: read x (F), b_p, relaxation_p, cells; write x (F)
-//   boundary_smoothing  per band_gauss_seidel call: the band pressure update (band_p rows: index
-//                       5, start 4, inverse and constant and b 3S, entries 5 + S each, p write S),
+//   boundary_smoothing  per band_gauss_seidel call: the band pressure update (compact rows,
+//                       Level::band_p_kernel: pattern and target 8, inverse and constant and b
+//                       3S, p write S; their patterns cached),
 //                       the right-hand side refresh (band_u rows: index 5, constant and b read,
 //                       rhs write: 3S), per sweep per row: pattern, target, field (9), rhs S,
 //                       own variable read + write 2S, each eliminated pressure read + write 2S
@@ -23,7 +24,8 @@
 //                       records and 4 S per rule); the two Fig. 8 relocation calls per level visit
 //                       over their row subsets (the pressure update is still the full band_p)
 //   residual            read x, b (F S each), relaxation (F), write r (F S) over n; band rows:
-//                       index 9, entries 5 + S each, constant, b, r (3S), pressure rows + 2S
+//                       index 9, constant, b, r (3S); pressure rows: pattern and target 8,
+//                       constant, b, r, own p, extra diagonal (5S)
 //   restriction         read fine r (F S n_f); coarse: zero x and b (2 F S n_c), read kind (F)
 //                       fused (Multigrid::fuses_restriction, residual_restriction.hpp): counted
 //                       with the residual, which then writes no r (the window stays in cache)

@@ -787,7 +787,7 @@ std::vector<ByteShare> Level<Dim, Scalar>::byte_breakdown() const {
                                       split_indices(band_p) + sum(band_p_extra, band_p_inverse)},
       {"band blocks, inverses, points",
        sum(band_blocks, band_block_inverse, band_block_inverse_id, band_point_rows)},
-      {"band kernel (patterns)", band_kernel.bytes()},
+      {"band kernel (patterns)", band_kernel.bytes() + band_p_kernel.bytes()},
       {"band runs", band_runs.bytes()},
       {"schedules, Fig. 8 rows", schedules},
       {"block partition", nested(blocks.colors)},

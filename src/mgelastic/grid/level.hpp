@@ -235,6 +235,9 @@ struct Level {
   // band_u, its Schur diagonal and pressure factors in the compact form the sweeps read
   // (band_kernel.hpp); rebuild with build_band_kernel after changing any of them.
   BandKernel<Scalar> band_kernel;
+  // band_p in the same compact form (its rows' own variable is the cell's pressure): what
+  // update_band_pressures reads (band_kernel.hpp: build_band_pressure_kernel).
+  BandKernel<Scalar> band_p_kernel;
 
   // Multithreading (Sec. 9.4): colored blocks of the volume for the distributive sweeps, and
   // the band's work grouped by the same blocks (the separate partition of the boundary band),

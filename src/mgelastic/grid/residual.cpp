@@ -187,14 +187,26 @@ Scalar band_momentum_residual(const Level<Dim, Scalar>& level, std::size_t m,
   return load_at(level, kernel.field[m], k) - kernel.constant[m] - sum;
 }
 template <int Dim, typename Scalar>
-Scalar band_pressure_residual(const Level<Dim, Scalar>& level, std::size_t m, Scalar d0) {
+Scalar band_pressure_residual(const Level<Dim, Scalar>& level, std::size_t m, Scalar d0,
+                              bool addressed = false) {
   const SparseRows<Scalar>& rows = level.band_p;
   Scalar sum = 0;
-  for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e)
-    sum += rows.value[e] * level.x[rows.column_field[e]][rows.column_index[e]];
+  if (addressed) {
+    sum = level.band_p_kernel.addressed_row_sum(level.x[0].data(), m);
+  } else {
+    for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e)
+      sum += rows.value[e] * level.x[rows.column_field[e]][rows.column_index[e]];
+  }
   const std::uint32_t k = rows.target_index[m];
   return load_at(level, Dim, k) - rows.constant[m] - sum -
          (d0 + level.band_p_extra[m]) * level.x[Dim][k];
+}
+
+// Whether band_pressure_residual may read level.band_p_kernel (built and addressed for x).
+template <int Dim, typename Scalar>
+bool pressure_rows_addressed(const Level<Dim, Scalar>& level) {
+  return level.band_p_kernel.rows() == level.band_p.rows() &&
+         level.band_p_kernel.addressed_for(level.x);
 }
 
 // The residuals of one line of band_row_planes.hpp (member a of a band run, rows
@@ -275,12 +287,14 @@ void band_residual(const Level<Dim, Scalar>& level, const std::array<Out*, Dim +
   if (squares) add_squares();
   if (level.lambda <= 0) return;
   const auto& p_rows = level.band_p;
+  const bool addressed_p = pressure_rows_addressed(level);
   const Scalar d0 = level.mu * level.mu / level.lambda;
   const auto p_count = static_cast<std::ptrdiff_t>(p_rows.rows());
   keep(p_rows.rows());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t m = 0; m < p_count; ++m) {
-    const Scalar value = band_pressure_residual(level, static_cast<std::size_t>(m), d0);
+    const Scalar value =
+        band_pressure_residual(level, static_cast<std::size_t>(m), d0, addressed_p);
     if (write) r[Dim][p_rows.target_index[m]] = static_cast<Out>(value);
     if (squares) values[m] = value;
   }
@@ -364,11 +378,12 @@ void residual_planes(const Level<Dim, Scalar>& level, const BandRowPlanes& band_
   }
   if (level.lambda <= 0) return;
   const auto& p_rows = level.band_p;
+  const bool addressed_p = pressure_rows_addressed(level);
   const Scalar d0 = level.mu * level.mu / level.lambda;
   for (std::uint32_t i = band_planes.pressure_start[first]; i < band_planes.pressure_start[end];
        ++i) {
     const std::uint32_t m = band_planes.pressure_rows[i];
-    r[Dim][p_rows.target_index[m]] = band_pressure_residual(level, m, d0);
+    r[Dim][p_rows.target_index[m]] = band_pressure_residual(level, m, d0, addressed_p);
   }
 }
 
