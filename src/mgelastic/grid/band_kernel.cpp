@@ -36,12 +36,45 @@ void address_entries(BandKernel<Scalar>& kernel, const Scalar* const* x, int fie
   kernel.entry_bytes_for = std::move(addresses);
 }
 
-template <int Dim, typename Scalar>
-void build_band_kernel(Level<Dim, Scalar>& level) {
-  const SparseRows<Scalar>& rows = level.band_u;
+namespace {
+
+// Row m's entries as (field, offset from the row's own index, value): appended to a pattern's
+// key, and to the kernel's entries when the pattern is new.
+template <typename Scalar>
+void append_entry_key(std::string& key, const SparseRows<Scalar>& rows, std::size_t m) {
+  const auto self = static_cast<std::int64_t>(rows.target_index[m]);
+  for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e) {
+    append_bytes(key, rows.column_field[e]);
+    append_bytes(key, static_cast<std::int32_t>(rows.column_index[e] - self));
+    append_bytes(key, rows.value[e]);
+  }
+}
+template <typename Scalar>
+void append_entries(BandKernel<Scalar>& kernel, const SparseRows<Scalar>& rows, std::size_t m) {
+  const auto self = static_cast<std::int64_t>(rows.target_index[m]);
+  for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e) {
+    kernel.entry_field.push_back(rows.column_field[e]);
+    kernel.entry_offset.push_back(static_cast<std::int32_t>(rows.column_index[e] - self));
+    kernel.entry_value.push_back(rows.value[e]);
+  }
+  kernel.start.push_back(static_cast<std::uint32_t>(kernel.entry_value.size()));
+}
+
+// An empty kernel for `rows`: their targets, room for their pattern ids.
+template <typename Scalar>
+BandKernel<Scalar> kernel_for(const SparseRows<Scalar>& rows) {
   BandKernel<Scalar> kernel;
   kernel.pattern.reserve(rows.rows());
   kernel.target = rows.target_index;
+  return kernel;
+}
+
+}  // namespace
+
+template <int Dim, typename Scalar>
+void build_band_kernel(Level<Dim, Scalar>& level) {
+  const SparseRows<Scalar>& rows = level.band_u;
+  BandKernel<Scalar> kernel = kernel_for(rows);
   kernel.field = rows.target_field;
   kernel.constant = rows.constant;
   kernel.rhs.assign(rows.rows(), Scalar(0));
@@ -52,11 +85,7 @@ void build_band_kernel(Level<Dim, Scalar>& level) {
   for (std::size_t m = 0; m < rows.rows(); ++m) {
     const auto self = static_cast<std::int64_t>(rows.target_index[m]);
     key.clear();
-    for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e) {
-      append_bytes(key, rows.column_field[e]);
-      append_bytes(key, static_cast<std::int32_t>(rows.column_index[e] - self));
-      append_bytes(key, rows.value[e]);
-    }
+    append_entry_key(key, rows, m);
     std::array<std::int32_t, 2> offset{0, 0};
     std::array<Scalar, 2> factor{0, 0};
     std::uint8_t count = 0;
@@ -75,12 +104,7 @@ void build_band_kernel(Level<Dim, Scalar>& level) {
     const auto [it, added] = ids.try_emplace(key, static_cast<std::uint32_t>(kernel.patterns()));
     kernel.pattern.push_back(it->second);
     if (!added) continue;
-    for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e) {
-      kernel.entry_field.push_back(rows.column_field[e]);
-      kernel.entry_offset.push_back(static_cast<std::int32_t>(rows.column_index[e] - self));
-      kernel.entry_value.push_back(rows.value[e]);
-    }
-    kernel.start.push_back(static_cast<std::uint32_t>(kernel.entry_value.size()));
+    append_entries(kernel, rows, m);
     kernel.schur_diagonal.push_back(level.band_u_schur_diagonal[m]);
     kernel.pressure_offset.push_back(offset);
     kernel.pressure_factor.push_back(factor);
@@ -98,29 +122,17 @@ void build_band_kernel(Level<Dim, Scalar>& level) {
 template <int Dim, typename Scalar>
 void build_band_pressure_kernel(Level<Dim, Scalar>& level) {
   const SparseRows<Scalar>& rows = level.band_p;
-  BandKernel<Scalar> kernel;
-  kernel.pattern.reserve(rows.rows());
-  kernel.target = rows.target_index;
+  BandKernel<Scalar> kernel = kernel_for(rows);
   std::unordered_map<std::string, std::uint32_t> ids;
   std::string key;
   for (std::size_t m = 0; m < rows.rows(); ++m) {
-    const auto self = static_cast<std::int64_t>(rows.target_index[m]);
     key.clear();
-    for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e) {
-      append_bytes(key, rows.column_field[e]);
-      append_bytes(key, static_cast<std::int32_t>(rows.column_index[e] - self));
-      append_bytes(key, rows.value[e]);
-    }
+    append_entry_key(key, rows, m);
     const auto [it, added] =
         ids.try_emplace(key, static_cast<std::uint32_t>(kernel.start.size() - 1));
     kernel.pattern.push_back(it->second);
     if (!added) continue;
-    for (std::uint32_t e = rows.start[m]; e < rows.start[m + 1]; ++e) {
-      kernel.entry_field.push_back(rows.column_field[e]);
-      kernel.entry_offset.push_back(static_cast<std::int32_t>(rows.column_index[e] - self));
-      kernel.entry_value.push_back(rows.value[e]);
-    }
-    kernel.start.push_back(static_cast<std::uint32_t>(kernel.entry_value.size()));
+    append_entries(kernel, rows, m);
   }
   level.band_p_kernel = std::move(kernel);
 }
