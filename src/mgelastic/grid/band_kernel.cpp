@@ -21,12 +21,10 @@ std::size_t BandKernel<Scalar>::bytes() const {
 }
 
 template <typename Scalar>
-void address_entries(BandKernel<Scalar>& kernel, const Scalar* const* x, int fields) {
-  std::vector<std::uintptr_t> addresses(static_cast<std::size_t>(fields));
-  for (int f = 0; f < fields; ++f) addresses[f] = reinterpret_cast<std::uintptr_t>(x[f]);
-  if (addresses == kernel.entry_bytes_for &&
-      kernel.entry_bytes.size() == kernel.entry_offset.size())
-    return;
+void address_entries(BandKernel<Scalar>& kernel, std::span<const Scalar* const> x) {
+  if (kernel.addressed_for(x)) return;  // every band call asks: nothing allocated then
+  std::vector<std::uintptr_t> addresses(x.size());
+  for (std::size_t f = 0; f < x.size(); ++f) addresses[f] = reinterpret_cast<std::uintptr_t>(x[f]);
   kernel.entry_bytes.resize(kernel.entry_offset.size());
   for (std::size_t e = 0; e < kernel.entry_bytes.size(); ++e)
     kernel.entry_bytes[e] =
@@ -115,8 +113,8 @@ void build_band_kernel(Level<Dim, Scalar>& level) {
   if (level.x[0].size() != level.size()) return;  // no arrays yet: the first sweep addresses
   std::array<const Scalar*, Dim + 1> x;
   for (int f = 0; f <= Dim; ++f) x[f] = level.x[f].data();
-  address_entries(level.band_kernel, x.data(), Dim + 1);
-  address_entries(level.band_p_kernel, x.data(), Dim + 1);
+  address_entries<Scalar>(level.band_kernel, x);
+  address_entries<Scalar>(level.band_p_kernel, x);
 }
 
 template <int Dim, typename Scalar>
@@ -147,8 +145,8 @@ void drop_band_csr(Level<Dim, Scalar>& level) {
 
 template struct BandKernel<float>;
 template struct BandKernel<double>;
-template void address_entries<float>(BandKernel<float>&, const float* const*, int);
-template void address_entries<double>(BandKernel<double>&, const double* const*, int);
+template void address_entries<float>(BandKernel<float>&, std::span<const float* const>);
+template void address_entries<double>(BandKernel<double>&, std::span<const double* const>);
 template void build_band_kernel<2, float>(Level<2, float>&);
 template void build_band_pressure_kernel<2, float>(Level<2, float>&);
 template void build_band_kernel<2, double>(Level<2, double>&);

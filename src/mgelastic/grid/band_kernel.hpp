@@ -16,6 +16,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace mgelastic::grid {
@@ -104,10 +105,10 @@ void build_band_kernel(Level<Dim, Scalar>& level);
 template <int Dim, typename Scalar>
 void build_band_pressure_kernel(Level<Dim, Scalar>& level);
 
-// Builds kernel.entry_bytes for the field arrays x[0..fields) unless it is built for these
+// Builds kernel.entry_bytes for the field arrays x unless it is built for these
 // addresses already (a copied level has new arrays; a moved one keeps them).
 template <typename Scalar>
-void address_entries(BandKernel<Scalar>& kernel, const Scalar* const* x, int fields);
+void address_entries(BandKernel<Scalar>& kernel, std::span<const Scalar* const> x);
 
 // Frees band_u's CSR rows, Schur diagonals and pressure factors (all held by the kernel). Only
 // after everything built from them (blocks, schedules, runs) exists.

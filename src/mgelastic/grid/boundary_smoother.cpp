@@ -36,7 +36,7 @@ struct BandSweep {
         block_inverse(level.band_block_inverse.data()),
         inverse_id(level.band_block_inverse_id.data()) {
     for (int f = 0; f <= Dim; ++f) x[f] = level.x[f].data();
-    address_entries(level.band_kernel, x.data(), Dim + 1);
+    address_entries<Scalar>(level.band_kernel, {x.data(), x.size()});
   }
 
   Scalar residual(std::uint32_t m) const {
@@ -136,7 +136,7 @@ void update_band_pressures(Level<Dim, Scalar>& level) {
   if (level.band_p_kernel.rows() != rows.rows()) build_band_pressure_kernel(level);
   std::array<Scalar*, Dim + 1> x;
   for (int f = 0; f <= Dim; ++f) x[f] = level.x[f].data();
-  address_entries(level.band_p_kernel, x.data(), Dim + 1);
+  address_entries<Scalar>(level.band_p_kernel, {x.data(), x.size()});
   // Each eliminated pressure depends on u only: independent updates, read through the compact
   // rows (the same products in the same order as band_p's: a few bytes per row instead of ~70).
   const BandKernel<Scalar>& kernel = level.band_p_kernel;

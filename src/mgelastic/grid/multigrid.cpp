@@ -133,18 +133,8 @@ void copy_solution_state(const std::array<FieldArray<double>, Fields>& x,
 // any thread count.
 template <int Dim, typename Scalar>
 void zero_correction(Level<Dim, Scalar>& fine) {
-  const auto size = static_cast<std::ptrdiff_t>(fine.size());
-  const std::ptrdiff_t block = interleaved_block((size + kLiveChunk - 1) / kLiveChunk);
-  for (int f = 0; f <= Dim; ++f) {
-    Scalar* x = fine.x[f].data();
-    // Live chunks only (live_chunks.hpp: the dead ones hold zeros and no memory), interleaved
-    // among the threads (threads.hpp: an embedded body's live chunks are not spread evenly).
-#pragma omp parallel for schedule(static, block)
-    for (std::ptrdiff_t begin = 0; begin < size; begin += kLiveChunk) {
-      const std::ptrdiff_t end = std::min(begin + kLiveChunk, size);
-      if (fine.live.any_live(begin, end)) std::fill(x + begin, x + end, Scalar(0));
-    }
-  }
+  // Live chunks only (live_chunks.hpp: the dead ones hold zeros and no memory).
+  for (int f = 0; f <= Dim; ++f) zero_live(fine.x[f], fine.live);
 }
 
 // The double residual of the solution, rounded once, as the float level's right-hand side; its
