@@ -172,7 +172,8 @@ void add_per_cell_fields(nlohmann::json& record, const grid::Multigrid<Dim, Scal
   const grid::LayoutCensus census = grid::layout_census(levels, {{4, 4, 4}, {8, 8, 8}, {32, 8, 4}});
   nlohmann::json layout = {{"bounding_box", census.bounding_box / cells},
                            {"with_variables", census.with_variables / cells},
-                           {"live_pages", census.live_pages / cells}};
+                           {"live_pages", census.live_pages / cells},
+                           {"row_ranges", census.row_ranges / cells}};
   for (const grid::TileCensus& tiles : census.tiles)
     layout["tiles_" + std::to_string(tiles.size[0]) + "x" + std::to_string(tiles.size[1]) + "x" +
            std::to_string(tiles.size[2])] = tiles.points / cells;
@@ -585,8 +586,9 @@ void print_profile_summary(const nlohmann::json& records, const BoxBenchOptions&
   // Lattice points per active cell, all levels: today's box, the floor, and the tiled layouts.
   const std::vector<std::pair<const char*, const char*>> layouts = {
       {"points/cell: box", "bounding_box"}, {"  with a variable", "with_variables"},
-      {"  4 KiB pages", "live_pages"},      {"  4^3 tiles", "tiles_4x4x4"},
-      {"  8^3 tiles", "tiles_8x8x8"},       {"  32x8x4 tiles", "tiles_32x8x4"}};
+      {"  4 KiB pages", "live_pages"},      {"  x-range per row", "row_ranges"},
+      {"  4^3 tiles", "tiles_4x4x4"},       {"  8^3 tiles", "tiles_8x8x8"},
+      {"  32x8x4 tiles", "tiles_32x8x4"}};
   for (const auto& [label, key] : layouts) {
     std::printf("\n%-20s", label);
     for (const auto& r : records)

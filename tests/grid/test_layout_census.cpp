@@ -57,6 +57,30 @@ void expect_matches_direct_count(const Level<Dim, Scalar>& level) {
       any = any || has_variable(level, k);
     pages += any ? 1024 : 0;
   }
+  // One x-range per storage row, from its first to its last point next to a variable.
+  std::size_t ranges = 0;
+  const std::ptrdiff_t n = level.lattice.padded(0);
+  for (std::ptrdiff_t row = 0; row < static_cast<std::ptrdiff_t>(level.size()); row += n) {
+    std::ptrdiff_t lo = n, hi = -1;
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      bool near = false;
+      const IVec<Dim> s = level.lattice.coords(row + i);
+      for (int m = 0; m < (Dim == 3 ? 27 : 9) && !near; ++m) {
+        IVec<Dim> t = s;
+        bool inside = true;
+        for (int a = 0, code = m; a < Dim; ++a, code /= 3) {
+          t[a] += code % 3 - 1;
+          inside = inside && t[a] >= 0 && t[a] < level.lattice.padded(a);
+        }
+        near = inside && has_variable(level, level.lattice.index(t));
+      }
+      if (near) lo = std::min(lo, i), hi = std::max(hi, i);
+    }
+    if (hi >= 0) ranges += static_cast<std::size_t>(hi - lo + 1);
+  }
+  EXPECT_EQ(census.row_ranges, ranges);
+  EXPECT_GE(census.row_ranges, census.with_variables);
+  EXPECT_LE(census.row_ranges, census.bounding_box);
   EXPECT_EQ(census.bounding_box, level.size());
   EXPECT_EQ(census.with_variables, variables);
   EXPECT_EQ(census.live_pages, pages);
@@ -98,6 +122,9 @@ TEST(LayoutCensus, FollowsTheBodyWhereTheBoxFillsItsLattice) {
   // The ball fills ~pi/6 of its box: the 4^3 tiles keep well under the box's points.
   EXPECT_LT(embedded.tiles[0].points, 0.85 * embedded.bounding_box);
   EXPECT_LT(embedded.tiles[0].points, embedded.tiles[1].points + 1);  // 4^3 nest in 8^3
+  // One x-range per row drops the box's corners around the ball, keeps the box whole.
+  EXPECT_LT(embedded.row_ranges, 0.85 * embedded.bounding_box);
+  EXPECT_EQ(full.row_ranges, full.bounding_box);
 }
 
 TEST(LayoutCensus, SumsTheLevels) {
@@ -109,10 +136,12 @@ TEST(LayoutCensus, SumsTheLevels) {
     const LayoutCensus one = layout_census(mg.level(l), kSizes);
     sum.bounding_box += one.bounding_box;
     sum.with_variables += one.with_variables;
+    sum.row_ranges += one.row_ranges;
   }
   const LayoutCensus total = layout_census(levels, kSizes);
   EXPECT_EQ(total.bounding_box, sum.bounding_box);
   EXPECT_EQ(total.with_variables, sum.with_variables);
+  EXPECT_EQ(total.row_ranges, sum.row_ranges);
   EXPECT_EQ(total.active_cells, layout_census(mg.finest(), kSizes).active_cells);
 }
 

@@ -83,6 +83,22 @@ std::size_t live_page_points(const std::vector<std::uint8_t>& mask) {
   return points;
 }
 
+// Points of one x-range per storage row: from the first to the last needed point of the row.
+template <int Dim>
+std::size_t row_range_points(const Lattice<Dim>& lattice, const std::vector<std::uint8_t>& needed) {
+  const std::ptrdiff_t n = lattice.padded(0);
+  std::size_t points = 0;
+  for (std::size_t begin = 0; begin < needed.size(); begin += static_cast<std::size_t>(n)) {
+    const auto first = needed.begin() + static_cast<std::ptrdiff_t>(begin);
+    const auto last = first + n;
+    const auto lo = std::find(first, last, 1);
+    if (lo == last) continue;
+    const auto hi = std::find(std::make_reverse_iterator(last), std::make_reverse_iterator(lo), 1);
+    points += static_cast<std::size_t>(hi.base() - lo);
+  }
+  return points;
+}
+
 }  // namespace
 
 template <int Dim, typename Scalar>
@@ -96,6 +112,7 @@ LayoutCensus layout_census(const Level<Dim, Scalar>& level,
   census.bounding_box = level.size();
   census.with_variables = static_cast<std::size_t>(std::count(mask.begin(), mask.end(), 1));
   census.live_pages = live_page_points(mask);
+  census.row_ranges = row_range_points(level.lattice, needed);
   for (const auto& size : tile_sizes)
     census.tiles.push_back(count_tiles(level.lattice, needed, size));
   return census;
@@ -114,6 +131,7 @@ LayoutCensus layout_census(const std::vector<const Level<Dim, Scalar>*>& levels,
     total.bounding_box += one.bounding_box;
     total.with_variables += one.with_variables;
     total.live_pages += one.live_pages;
+    total.row_ranges += one.row_ranges;
     for (std::size_t t = 0; t < one.tiles.size(); ++t) {
       total.tiles[t].tiles += one.tiles[t].tiles;
       total.tiles[t].points += one.tiles[t].points;

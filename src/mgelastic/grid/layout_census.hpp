@@ -12,14 +12,18 @@
 //                     that hold a variable: the best that releasing pages of the row-major
 //                     layout can reach (live_chunks.hpp keeps more: whole neighbour rows, and
 //                     huge pages);
+//   row_ranges        points of one x-range per storage row, from its first to its last point
+//                     that holds a variable or a stencil neighbour of one: a row-compressed
+//                     layout (a row table of base offsets, rows contiguous along x);
 //   tiles (a, b, c)   points in a x b x c tiles (x fastest) that hold a variable or a stencil
 //                     neighbour of one (the 27 points around it): a tile-major layout where a
 //                     kernel finds every neighbour it reads in an allocated tile.
 // Over all levels (docs/performance.md): the 128^3 mixed box keeps 1.38 points per active cell
 // densely (padding ring, Dirichlet slab, coarse levels), 1.45 / 1.62 / 1.88 in 4^3 / 8^3 /
-// 32 x 8 x 4 tiles (its rows do not divide into tiles); the armadillo at 256 cells 10.02
-// densely, 1.86 with variables (its surface faces live at the exterior cells next to it),
-// 5.10 in 4 KiB pages, 2.49 / 3.05 / 3.59 in those tiles.
+// 32 x 8 x 4 tiles (its rows do not divide into tiles) and 1.38 in row ranges; the armadillo
+// at 256 cells 10.02 densely, 1.86 with variables (its surface faces live at the exterior
+// cells next to it), 5.10 in 4 KiB pages, 2.56 in row ranges, 2.49 / 3.05 / 3.59 in those
+// tiles; the bunny at 256 cells 4.62, 1.47, 3.08, 1.61 (row ranges), 1.74 / 1.96 / 2.23.
 #include <array>
 #include <cstddef>
 #include <vector>
@@ -37,6 +41,7 @@ struct TileCensus {
 struct LayoutCensus {
   std::size_t active_cells = 0;  // INTERIOR cells of the finest level
   std::size_t bounding_box = 0, with_variables = 0, live_pages = 0;
+  std::size_t row_ranges = 0;     // one x-range per storage row
   std::vector<TileCensus> tiles;  // one per requested tile size
 };
 
