@@ -776,7 +776,8 @@ std::vector<ByteShare> Level<Dim, Scalar>::byte_breakdown() const {
       {"fields x b r", fields},
       // Shared codes count at the level that owns them.
       {"variable codes (kind, relaxation)", codes.owns() ? codes.bytes() : 0},
-      {"cells, Dirichlet wall layers", sum(cells, dirichlet_wall_layers)},
+      {"cells, Dirichlet wall layers, live rows",
+       sum(cells, dirichlet_wall_layers, live.live, live.span)},
       {"cell weights", vector_bytes(cell_weight)},
       {"band_u CSR start/value/constant", csr_values(band_u)},
       {"band_u global target", global_indices(band_u)},

@@ -51,7 +51,23 @@ LiveChunks find_live_chunks(const Lattice<Dim>& lattice, const VarCodes& codes) 
     for (std::ptrdiff_t c = begin / kLiveChunk; c * kLiveChunk < end; ++c)
       chunks.live[static_cast<std::size_t>(c)] = 1;
   }
-  if (chunks.live_count() == chunks.live.size()) chunks.live.clear();
+  if (chunks.live_count() == chunks.live.size()) {
+    chunks.live.clear();
+    return chunks;
+  }
+  chunks.row_length = row_length;
+  chunks.span.assign(static_cast<std::size_t>(rows), {0, 0});
+  for (std::ptrdiff_t row = 0; row < rows; ++row) {
+    if (!holds[static_cast<std::size_t>(row)]) continue;
+    const VarCode* c = codes.data() + row * row_length;
+    const auto has = [](VarCode code) { return code != 0; };
+    const VarCode* first = std::find_if(c, c + row_length, has);
+    const VarCode* last = std::find_if(std::make_reverse_iterator(c + row_length),
+                                       std::make_reverse_iterator(first), has)
+                              .base();
+    chunks.span[static_cast<std::size_t>(row)] = {static_cast<std::int32_t>(first - c),
+                                                  static_cast<std::int32_t>(last - c)};
+  }
   return chunks;
 }
 

@@ -522,10 +522,14 @@ void prolongate_row(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>& fine, 
     for (const Tap& t : outer.taps[a])
       outer_in_storage =
           outer_in_storage && t.coordinate >= 0 && t.coordinate < coarse.lattice.padded(a);
-  const int last = std::min((fine.lattice.padded(0) - 1) / 2, coarse.lattice.padded(0) - 2);
-  int done = 0;  // fine x below `done` handled
-  if (last >= 1 && outer_in_storage) {
-    point(0);
+  // Only the row's variable span holds INTERIOR points (live_chunks.hpp).
+  const auto [first, end] = row_span(fine.live, base, fine.lattice.padded(0));
+  const int last =
+      std::min({(fine.lattice.padded(0) - 1) / 2, coarse.lattice.padded(0) - 2, end / 2});
+  const int j_first = std::max(1, (first + 1) / 2);
+  int done = first;  // fine x below `done` handled
+  if (last >= j_first && outer_in_storage) {
+    if (first == 0) point(0);
     std::array<double, OuterTaps<Dim>::max_rows> w1{}, w2{};
     const Taps& t1 = outer.taps[1];
     w1 = {t1[0].weight, t1.size() > 1 ? t1[1].weight : 0.0};
@@ -539,7 +543,7 @@ void prolongate_row(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>& fine, 
     constexpr int chunk = 64;
     alignas(64) double value[2 * chunk];
     alignas(64) std::uint8_t ok[2 * chunk];
-    for (int j0 = 1; j0 <= last; j0 += chunk) {
+    for (int j0 = j_first; j0 <= last; j0 += chunk) {
       const int m = std::min(chunk, last - j0 + 1);
       prolongate_pairs_dispatch<Dim, Scalar>(field == 0, n1, n2, cx, coarse_kind,
                                              outer.offset.data(), w1.data(), w2.data(), j0, m,
@@ -555,7 +559,7 @@ void prolongate_row(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar>& fine, 
     }
     done = 2 * last + 1;
   }
-  for (int i = done; i < fine.lattice.padded(0); ++i) point(i);
+  for (int i = done; i < end; ++i) point(i);
 }
 
 // Pressures: piecewise constant injection from interior coarse cells, one fine storage row.
@@ -572,7 +576,8 @@ void prolongate_pressure_row(const Level<Dim, Scalar>& coarse, Level<Dim, Scalar
   const std::ptrdiff_t coarse_base = coarse.lattice.index(cs);  // + cs[0] along x
   const Scalar* cp = coarse.x[Dim].data() + coarse_base;
   Scalar* p = fine.x[Dim].data() + base;
-  for (int i = 1; i <= n; ++i) {
+  const auto [first, end] = row_span(fine.live, base, fine.lattice.padded(0));
+  for (int i = std::max(1, first); i <= std::min(n, end - 1); ++i) {
     if (fine_kind[base + i] != VarKind::INTERIOR) continue;
     const int c = (i - 1) / 2 + 1;
     if (coarse_kind[coarse_base + c] == VarKind::INTERIOR) p[i] += cp[c];
