@@ -101,7 +101,7 @@ void build_band_kernel(Level<Dim, Scalar>& level);
 // per pattern its entries (field, offset, value), entry order and values those of band_p, so
 // sums round as with its CSR rows. The other per-row and per-pattern arrays stay empty (band_p
 // keeps the constants, Level::band_p_inverse the inverses). Called by build_band_kernel and,
-// where band_p's rows changed, by update_band_pressures.
+// where band_p's rows changed, by the band sweeps' refresh (boundary_smoother.cpp).
 template <int Dim, typename Scalar>
 void build_band_pressure_kernel(Level<Dim, Scalar>& level);
 

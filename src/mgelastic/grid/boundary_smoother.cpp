@@ -13,13 +13,21 @@ Scalar band_rhs(const Level<Dim, Scalar>& level, std::size_t m) {
   return level.b[kernel.field[m]][kernel.target[m]] - kernel.constant[m];
 }
 
-// The kernel is derived from band_u: rebuilt when band_u changed (tests edit levels), never when
-// band_u's CSR was dropped (drop_band_csr). Returns whether it was rebuilt (its rhs then too).
+// The kernels are derived from band_u and band_p: rebuilt when their rows changed (tests edit
+// levels), band_u's never when its CSR was dropped (drop_band_csr).
+template <int Dim, typename Scalar>
+void refresh_band_pressure_kernel(Level<Dim, Scalar>& level) {
+  if (level.band_p_kernel.rows() != level.band_p.rows()) build_band_pressure_kernel(level);
+}
+// Both; returns whether band_u's was rebuilt (its rhs then too).
 template <int Dim, typename Scalar>
 bool refresh_band_kernel(Level<Dim, Scalar>& level) {
-  if (level.band_u.rows() == 0 || level.band_kernel.rows() == level.band_u.rows()) return false;
-  build_band_kernel(level);
-  return true;
+  if (level.band_u.rows() != 0 && level.band_kernel.rows() != level.band_u.rows()) {
+    build_band_kernel(level);  // band_p_kernel with it
+    return true;
+  }
+  refresh_band_pressure_kernel(level);
+  return false;
 }
 
 // The band momentum rows as the sweeps see them (band_kernel.hpp): raw field pointers and the
@@ -133,7 +141,7 @@ template <int Dim, typename Scalar>
 void update_band_pressures(Level<Dim, Scalar>& level) {
   const auto& rows = level.band_p;
   const auto count = static_cast<std::ptrdiff_t>(rows.rows());
-  if (level.band_p_kernel.rows() != rows.rows()) build_band_pressure_kernel(level);
+  refresh_band_pressure_kernel(level);
   std::array<Scalar*, Dim + 1> x;
   for (int f = 0; f <= Dim; ++f) x[f] = level.x[f].data();
   address_entries<Scalar>(level.band_p_kernel, {x.data(), x.size()});
@@ -154,8 +162,8 @@ template <int Dim, typename Scalar>
 void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps,
                        const std::vector<std::uint32_t>* subset, BandSweepOrder order,
                        BandRhs rhs) {
-  update_band_pressures(level);
   if (refresh_band_kernel(level)) rhs = BandRhs::REFRESH;  // a rebuilt kernel's rhs is zero
+  update_band_pressures(level);
   if (rhs == BandRhs::REFRESH && subset)
     for (std::uint32_t m : *subset) level.band_kernel.rhs[m] = band_rhs(level, m);
   else if (rhs == BandRhs::REFRESH)
@@ -183,8 +191,8 @@ template <int Dim, typename Scalar>
 void band_gauss_seidel(Level<Dim, Scalar>& level, int sweeps,
                        const typename Level<Dim, Scalar>::RowSchedule& schedule,
                        BandSweepOrder order, BandRhs rhs) {
-  update_band_pressures(level);
   if (refresh_band_kernel(level)) rhs = BandRhs::REFRESH;  // a rebuilt kernel's rhs is zero
+  update_band_pressures(level);
   const BandSweep<Dim, Scalar> band(level);
   if (rhs == BandRhs::REFRESH) {
     auto& values = level.band_kernel.rhs;
