@@ -78,7 +78,8 @@ void count_active_cells(benchmark::State& state) {
 
 void kernel_cases(benchmark::internal::Benchmark* b) {
   b->ArgNames({"body", "cells", "cold"});
-  for (const auto& [body, cells] : {std::pair{0, 16}, {0, 64}, {0, 128}, {1, 128}, {1, 256}})
+  for (const auto& [body, cells] :
+       {std::pair{0, 16}, {0, 64}, {0, 128}, {1, 48}, {1, 128}, {1, 256}})
     for (int cold : {0, 1}) b->Args({body, cells, cold});
   b->Unit(benchmark::kMillisecond)->UseRealTime();
 }

@@ -58,8 +58,10 @@ inline benchmark::Counter per_second(double items) {
 // The finest level's active cells per second (every kernel reports it).
 void count_active_cells(benchmark::State& state);
 
-// The box at 16 (the smoke test), 64 and 128 cells, the armadillo at 128 and 256, each warm (0)
-// and cold (1).
+// The box at 16 (the smoke test), 64 and 128 cells, the armadillo at 48, 128 and 256, each warm
+// (0) and cold (1). The armadillo at 48 fits the caches: a kernel's time per band row or
+// lattice point there against 256 says how much of it is memory and how much its own
+// instructions (the band sweeps: 55-75 % instructions, docs/notes/2026-12-08-band-cost-floor.md).
 void kernel_cases(benchmark::internal::Benchmark* b);
 
 }  // namespace mgelastic::bench
