@@ -38,6 +38,7 @@ struct BandSweep {
   const BandKernel<Scalar>& kernel;
   const Scalar* block_inverse;
   const std::uint32_t* inverse_id;
+  const BandBlockShapes<Scalar>* shapes = nullptr;  // the blocks' dense form, where built
 
   explicit BandSweep(Level<Dim, Scalar>& level)
       : kernel(level.band_kernel),
@@ -45,6 +46,10 @@ struct BandSweep {
         inverse_id(level.band_block_inverse_id.data()) {
     for (int f = 0; f <= Dim; ++f) x[f] = level.x[f].data();
     address_entries<Scalar>(level.band_kernel, {x.data(), x.size()});
+    if (level.band_block_shapes.built_for(level.band_blocks.size())) {
+      address_columns<Scalar>(level.band_block_shapes, {x.data(), x.size()});
+      shapes = &level.band_block_shapes;
+    }
   }
 
   Scalar residual(std::uint32_t m) const {
@@ -69,7 +74,14 @@ struct BandSweep {
   void relax_block(const std::array<std::uint32_t, 2 * Dim>& members, std::size_t block) const {
     constexpr int B = 2 * Dim;
     std::array<Scalar, B> r{};
-    for (int a = 0; a < B && members[a] != UINT32_MAX; ++a) r[a] = residual(members[a]);
+    if (shapes) {
+      alignas(32) Scalar sums[BandBlockShapes<Scalar>::kLanes];
+      shapes->row_sums(x[0], kernel.target[members[0]], block, sums);
+      for (int a = 0; a < B && members[a] != UINT32_MAX; ++a)
+        r[a] = kernel.rhs[members[a]] - sums[a];
+    } else {
+      for (int a = 0; a < B && members[a] != UINT32_MAX; ++a) r[a] = residual(members[a]);
+    }
     const Scalar* inverse = block_inverse + static_cast<std::size_t>(inverse_id[block]) * B * B;
     for (int a = 0; a < B && members[a] != UINT32_MAX; ++a) {
       Scalar delta = 0;

@@ -787,7 +787,8 @@ std::vector<ByteShare> Level<Dim, Scalar>::byte_breakdown() const {
       {"band_p rows (all forms)", csr_values(band_p) + global_indices(band_p) +
                                       split_indices(band_p) + sum(band_p_extra, band_p_inverse)},
       {"band blocks, inverses, points",
-       sum(band_blocks, band_block_inverse, band_block_inverse_id, band_point_rows)},
+       sum(band_blocks, band_block_inverse, band_block_inverse_id, band_point_rows) +
+           band_block_shapes.bytes()},
       {"band kernel (patterns)", band_kernel.bytes() + band_p_kernel.bytes()},
       {"band runs", band_runs.bytes()},
       {"schedules, Fig. 8 rows", schedules},
@@ -871,6 +872,7 @@ void build_rows_and_rules(Level<Dim, Scalar>& level, const Material& material,
     build_band_blocks(level);
     build_band_schedule(level);
     build_band_runs(level);
+    build_band_block_shapes(level);
   }
   shrink_band_arrays(level);
 }
@@ -925,11 +927,12 @@ template <int Dim, typename Scalar>
 void rebuild_band_sweep_data(Level<Dim, Scalar>& level) {
   const auto release = [](auto&... v) { ((v = std::remove_cvref_t<decltype(v)>()), ...); };
   release(level.band_blocks, level.band_block_inverse, level.band_block_inverse_id,
-          level.band_point_rows, level.band_schedule);
+          level.band_point_rows, level.band_schedule, level.band_block_shapes);
   build_band_kernel(level);
   build_band_blocks(level);
   build_band_schedule(level);
   build_band_runs(level);
+  build_band_block_shapes(level);
   shrink_band_arrays(level);
 }
 

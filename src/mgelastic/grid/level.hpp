@@ -30,6 +30,7 @@
 #include <utility>
 #include <vector>
 
+#include "mgelastic/grid/band_block_shapes.hpp"
 #include "mgelastic/grid/band_kernel.hpp"
 #include "mgelastic/grid/band_runs.hpp"
 #include "mgelastic/grid/block_partition.hpp"
@@ -232,6 +233,9 @@ struct Level {
            static_cast<std::size_t>(band_block_inverse_id[block]) * block_size * block_size;
   }
   std::vector<std::uint32_t> band_point_rows;
+  // The blocks' dense form for the step-by-step sweeps (band_block_shapes.hpp); empty where the
+  // blocks seldom repeat. Rebuilt with the blocks.
+  BandBlockShapes<Scalar> band_block_shapes;
   // band_u, its Schur diagonal and pressure factors in the compact form the sweeps read
   // (band_kernel.hpp); rebuild with build_band_kernel after changing any of them.
   BandKernel<Scalar> band_kernel;

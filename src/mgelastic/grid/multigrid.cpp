@@ -98,8 +98,8 @@ void release_sweep_data(Level<Dim, double>& level) {
   const auto release = [](auto&... v) { ((v = std::remove_cvref_t<decltype(v)>()), ...); };
   release(level.r, level.pre_restriction_rows, level.post_prolongation_rows, level.band_blocks,
           level.band_block_inverse, level.band_block_inverse_id, level.band_point_rows,
-          level.band_kernel.rhs, level.band_schedule, level.pre_restriction_schedule,
-          level.post_prolongation_schedule, level.band_runs);
+          level.band_block_shapes, level.band_kernel.rhs, level.band_schedule,
+          level.pre_restriction_schedule, level.post_prolongation_schedule, level.band_runs);
   drop_band_csr(level);
 }
 
