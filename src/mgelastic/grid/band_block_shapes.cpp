@@ -5,6 +5,7 @@
 #include <unordered_map>
 
 #include "mgelastic/core/bytes.hpp"
+#include "mgelastic/grid/band_kernel.hpp"
 #include "mgelastic/grid/level.hpp"
 
 namespace mgelastic::grid {
@@ -18,18 +19,8 @@ std::size_t BandBlockShapes<Scalar>::bytes() const {
 
 template <typename Scalar>
 void address_columns(BandBlockShapes<Scalar>& shapes, std::span<const Scalar* const> x) {
-  std::vector<std::uintptr_t> addresses(x.size());
-  for (std::size_t f = 0; f < x.size(); ++f) addresses[f] = reinterpret_cast<std::uintptr_t>(x[f]);
-  if (shapes.column_bytes.size() == shapes.column_offset.size() &&
-      shapes.column_bytes_for == addresses)
-    return;  // every band call asks: nothing allocated then
-  shapes.column_bytes.resize(shapes.column_offset.size());
-  for (std::size_t c = 0; c < shapes.column_bytes.size(); ++c)
-    shapes.column_bytes[c] =
-        static_cast<std::intptr_t>(addresses[shapes.column_field[c]] - addresses[0]) +
-        static_cast<std::intptr_t>(shapes.column_offset[c]) *
-            static_cast<std::intptr_t>(sizeof(Scalar));
-  shapes.column_bytes_for = std::move(addresses);
+  address_by_field(x, shapes.column_field, shapes.column_offset, shapes.column_bytes,
+                   shapes.column_bytes_for);
 }
 
 template <int Dim, typename Scalar>

@@ -21,17 +21,25 @@ std::size_t BandKernel<Scalar>::bytes() const {
 }
 
 template <typename Scalar>
+void address_by_field(std::span<const Scalar* const> x, const std::vector<std::uint8_t>& field,
+                      const std::vector<std::int32_t>& offset, std::vector<std::intptr_t>& bytes,
+                      std::vector<std::uintptr_t>& bytes_for) {
+  bool current = bytes.size() == offset.size() && bytes_for.size() == x.size();
+  for (std::size_t f = 0; current && f < x.size(); ++f)
+    current = bytes_for[f] == reinterpret_cast<std::uintptr_t>(x[f]);
+  if (current) return;  // every band call asks: nothing allocated then
+  bytes_for.resize(x.size());
+  for (std::size_t f = 0; f < x.size(); ++f) bytes_for[f] = reinterpret_cast<std::uintptr_t>(x[f]);
+  bytes.resize(offset.size());
+  for (std::size_t e = 0; e < bytes.size(); ++e)
+    bytes[e] = static_cast<std::intptr_t>(bytes_for[field[e]] - bytes_for[0]) +
+               static_cast<std::intptr_t>(offset[e]) * static_cast<std::intptr_t>(sizeof(Scalar));
+}
+
+template <typename Scalar>
 void address_entries(BandKernel<Scalar>& kernel, std::span<const Scalar* const> x) {
-  if (kernel.addressed_for(x)) return;  // every band call asks: nothing allocated then
-  std::vector<std::uintptr_t> addresses(x.size());
-  for (std::size_t f = 0; f < x.size(); ++f) addresses[f] = reinterpret_cast<std::uintptr_t>(x[f]);
-  kernel.entry_bytes.resize(kernel.entry_offset.size());
-  for (std::size_t e = 0; e < kernel.entry_bytes.size(); ++e)
-    kernel.entry_bytes[e] =
-        static_cast<std::intptr_t>(addresses[kernel.entry_field[e]] - addresses[0]) +
-        static_cast<std::intptr_t>(kernel.entry_offset[e]) *
-            static_cast<std::intptr_t>(sizeof(Scalar));
-  kernel.entry_bytes_for = std::move(addresses);
+  address_by_field(x, kernel.entry_field, kernel.entry_offset, kernel.entry_bytes,
+                   kernel.entry_bytes_for);
 }
 
 namespace {
@@ -146,6 +154,14 @@ void drop_band_csr(Level<Dim, Scalar>& level) {
 template struct BandKernel<float>;
 template struct BandKernel<double>;
 template void address_entries<float>(BandKernel<float>&, std::span<const float* const>);
+template void address_by_field<float>(std::span<const float* const>,
+                                      const std::vector<std::uint8_t>&,
+                                      const std::vector<std::int32_t>&, std::vector<std::intptr_t>&,
+                                      std::vector<std::uintptr_t>&);
+template void address_by_field<double>(std::span<const double* const>,
+                                       const std::vector<std::uint8_t>&,
+                                       const std::vector<std::int32_t>&,
+                                       std::vector<std::intptr_t>&, std::vector<std::uintptr_t>&);
 template void address_entries<double>(BandKernel<double>&, std::span<const double* const>);
 template void build_band_kernel<2, float>(Level<2, float>&);
 template void build_band_pressure_kernel<2, float>(Level<2, float>&);

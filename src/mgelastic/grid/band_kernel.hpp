@@ -105,8 +105,16 @@ void build_band_kernel(Level<Dim, Scalar>& level);
 template <int Dim, typename Scalar>
 void build_band_pressure_kernel(Level<Dim, Scalar>& level);
 
+// bytes[e] = (x[field[e]] - x[0]) + offset[e] * sizeof(Scalar), the byte distance of a value
+// from the point of field 0, rebuilt only where x is not the arrays at bytes_for (a copied level
+// has new arrays; a moved one keeps them).
+template <typename Scalar>
+void address_by_field(std::span<const Scalar* const> x, const std::vector<std::uint8_t>& field,
+                      const std::vector<std::int32_t>& offset, std::vector<std::intptr_t>& bytes,
+                      std::vector<std::uintptr_t>& bytes_for);
+
 // Builds kernel.entry_bytes for the field arrays x unless it is built for these
-// addresses already (a copied level has new arrays; a moved one keeps them).
+// addresses already.
 template <typename Scalar>
 void address_entries(BandKernel<Scalar>& kernel, std::span<const Scalar* const> x);
 

@@ -23,7 +23,7 @@ void refresh_band_pressure_kernel(Level<Dim, Scalar>& level) {
 template <int Dim, typename Scalar>
 bool refresh_band_kernel(Level<Dim, Scalar>& level) {
   if (level.band_u.rows() != 0 && level.band_kernel.rows() != level.band_u.rows()) {
-    build_band_kernel(level);  // band_p_kernel with it
+    build_band_kernel(level);      // band_p_kernel with it
     level.band_block_shapes = {};  // built from the old patterns: blocks read the rows
     return true;
   }
